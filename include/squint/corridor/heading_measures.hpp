@@ -1,0 +1,85 @@
+// The five heading cues of paper §4.1, one class each behind a small interface. Each scores
+// every glance column, picks the extremum and says whether it is trustworthy; converting the
+// column to degrees (camera model, calibration) and fusing is the Perceiver's job.
+#pragma once
+
+#include <memory>
+
+#include "squint/corridor/measure.hpp"
+#include "squint/corridor/options.hpp"
+#include "squint/corridor/prepared_glance.hpp"
+
+namespace squint::corridor {
+
+class HeadingMeasure {
+ public:
+  virtual ~HeadingMeasure() = default;
+  virtual HeadingCue Cue() const = 0;
+  // Fills out.curve, out.column_px (or none), out.reason and out.confidence; leaves
+  // out.heading_deg and out.fused alone. Never allocates.
+  virtual void Measure(const PreparedGlance& glance, HeadingMeasureResult& out) const = 0;
+};
+
+// f1: entropy of the grey levels in a vertical slice around each column; the maximum (§4.1.1).
+class EntropyHeading final : public HeadingMeasure {
+ public:
+  explicit EntropyHeading(const HeadingOptions& options) : options_(options) {}
+  HeadingCue Cue() const override { return HeadingCue::kEntropy; }
+  void Measure(const PreparedGlance& glance, HeadingMeasureResult& out) const override;
+
+ private:
+  HeadingOptions options_;
+};
+
+// f2: mutual information between the mirrored left and right halves of the window around each
+// column (eq. 2); the maximum is the symmetry axis (§4.1.2).
+class SymmetryHeading final : public HeadingMeasure {
+ public:
+  explicit SymmetryHeading(const HeadingOptions& options) : options_(options) {}
+  HeadingCue Cue() const override { return HeadingCue::kSymmetry; }
+  void Measure(const PreparedGlance& glance, HeadingMeasureResult& out) const override;
+
+ private:
+  HeadingOptions options_;
+};
+
+// f3: the Sobel gradient phase summed over a vertical slice; the column where the phases balance
+// (minimum |Σ|) is the axis (§4.1.3).
+class PhaseHeading final : public HeadingMeasure {
+ public:
+  explicit PhaseHeading(const HeadingOptions& options) : options_(options) {}
+  HeadingCue Cue() const override { return HeadingCue::kPhase; }
+  void Measure(const PreparedGlance& glance, HeadingMeasureResult& out) const override;
+
+ private:
+  HeadingOptions options_;
+};
+
+// f4: vanishing point by self-similarity (§4.1.4): the half-size glance is slid over the glance;
+// at the placement of maximum mutual information, the lines joining corresponding corners meet
+// at the vanishing point, whose x is kept.
+class VanishingHeading final : public HeadingMeasure {
+ public:
+  explicit VanishingHeading(const HeadingOptions& options) : options_(options) {}
+  HeadingCue Cue() const override { return HeadingCue::kVanishing; }
+  void Measure(const PreparedGlance& glance, HeadingMeasureResult& out) const override;
+
+ private:
+  HeadingOptions options_;
+};
+
+// f5: the median column of the brighter of two k-means (k = 2) grey-level clusters in the upper
+// part of the glance (§4.1.5).
+class BrightHeading final : public HeadingMeasure {
+ public:
+  explicit BrightHeading(const HeadingOptions& options) : options_(options) {}
+  HeadingCue Cue() const override { return HeadingCue::kBright; }
+  void Measure(const PreparedGlance& glance, HeadingMeasureResult& out) const override;
+
+ private:
+  HeadingOptions options_;
+};
+
+std::unique_ptr<HeadingMeasure> MakeHeadingMeasure(HeadingCue cue, const HeadingOptions& options);
+
+}  // namespace squint::corridor

@@ -1,0 +1,109 @@
+// Every tunable of corridor perception, with its documented default (the member initialisers
+// below are the only defaults; the CLI and YAML files fill these structs).
+#pragma once
+
+#include <array>
+#include <string>
+
+#include "squint/corridor/glance.hpp"
+#include "squint/corridor/measure.hpp"
+
+namespace squint::corridor {
+
+// One heading cue: its fusion weight and its linear calibration
+// heading_deg = scale * camera_heading_deg + bias_deg (identity by default).
+struct HeadingCueOptions {
+  bool enabled = true;
+  double weight = 1.0;
+  double scale = 1.0;
+  double bias_deg = 0.0;
+};
+
+struct HeadingOptions {
+  // Per cue, indexed by HeadingCue. Default weights follow the paper (§5.1: bright pixels and
+  // entropy most accurate); the robust fusion below matters more than the exact weights.
+  std::array<HeadingCueOptions, kHeadingCueCount> cues = {{
+      {.weight = 1.0},   // entropy
+      {.weight = 1.0},   // symmetry
+      {.weight = 0.5},   // phase
+      {.weight = 1.5},   // vanishing
+      {.weight = 1.5},   // bright
+  }};
+  // Width of the vertical slice around each column for entropy (f1) and phase (f3), pixels.
+  int slice_width_px = 3;
+  // Columns this close to the glance's left or right edge cannot hold a curve extremum: an
+  // argmax there is "peak at border" (the true maximum may lie outside the view).
+  int border_px = 1;
+  // Minimum prominence of a curve's extremum, (peak - median) / (max - min) of the curve, below
+  // which a curve counts as flat.
+  double min_prominence = 0.2;
+  // Grey levels are quantised to 2^bits bins for column entropy and symmetry histograms.
+  int column_bits = 3;
+  // Symmetry (f2): largest mirror half-width in columns, and the smallest one at which an axis
+  // near the border is still scored.
+  int symmetry_half_width_px = 8;
+  int symmetry_min_half_width_px = 3;
+  // Vanishing point (f4): grey levels quantised to 2^bits bins (3 -> 8 bins, a 64-bin joint
+  // histogram); the half-size glance is slid over this many pixels around each position.
+  int vanishing_bits = 3;
+  // Bright pixels (f5): rows of the upper part used (fraction of the glance height, paper: the
+  // upper half), and the minimum separation of the two k-means centres in grey levels.
+  double bright_rows_fraction = 0.5;
+  double bright_min_separation = 24.0;
+  int kmeans_iterations = 10;
+  // Estimates whose |heading| exceeds this are "out of range".
+  double max_abs_heading_deg = 40.0;
+  // Fusion: the estimates form a consensus when they lie within this many degrees of the
+  // weighted median; the others are outliers. The fused heading is the weighted mean of the
+  // consensus.
+  double agreement_deg = 6.0;
+  // Used only when the camera has no intrinsics: heading = deg_per_column * (u - centre).
+  double fallback_deg_per_column = 1.75;
+
+  std::string Validate() const;
+};
+
+struct DistanceOptions {
+  // Per cue, indexed by DistanceCue: fusion weights (paper §5.2: time to contact most accurate).
+  std::array<double, kDistanceCueCount> weights = {2.0, 1.0, 1.0};
+  std::array<bool, kDistanceCueCount> enabled = {true, true, true};
+  // g1 = ttc_scale * (τ · travelled per frame) + ttc_bias_m (identity by default).
+  double ttc_scale = 1.0;
+  double ttc_bias_m = 0.0;
+  // Speed used for g1 when no travelled distance is given (m/s, times the frame interval);
+  // 0 = none (then g1 needs odometry).
+  double speed_mps = 0.0;
+  // g2 = beta2 - alpha2 · J (eq. 4). Defaults are order-of-magnitude values for a robot at
+  // ~0.4 m/s and 4–30 Hz; the calibration issue fits them per robot.
+  double alpha2 = 200.0;
+  double beta2 = 20.0;
+  // g3 = alpha3 / (H(t-1) - H(t)) (§4.2.3), in m·nats.
+  double alpha3 = 0.05;
+  // Grey levels quantised to 2^bits bins for whole-glance entropy and Jeffrey divergence.
+  int image_bits = 6;
+  // Estimates outside [min_m, max_m] are "out of range".
+  double min_m = 0.0;
+  double max_m = 60.0;
+
+  std::string Validate() const;
+};
+
+struct GateOptions {
+  bool enabled = true;
+  // Skip full processing when |H(t) - H(t-1)| / H(reference) < threshold (§5.3: 0.01).
+  double threshold = 0.01;
+
+  std::string Validate() const;
+};
+
+struct CorridorOptions {
+  GlanceSampling sampling = GlanceSampling::kPoint;
+  HeadingOptions heading;
+  DistanceOptions distance;
+  GateOptions gate;
+
+  // Empty when valid, otherwise what is wrong (one line, naming the field).
+  std::string Validate() const;
+};
+
+}  // namespace squint::corridor

@@ -1,0 +1,105 @@
+// Corridor perception for one camera: glance → rapid-perception gate → five heading and three
+// distance measures → fusion. The object owns every buffer, so Process() never allocates.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <optional>
+
+#include "squint/core/camera.hpp"
+#include "squint/core/image_view.hpp"
+#include "squint/corridor/distance_measures.hpp"
+#include "squint/corridor/glance.hpp"
+#include "squint/corridor/heading_measures.hpp"
+#include "squint/corridor/measure.hpp"
+#include "squint/corridor/options.hpp"
+#include "squint/corridor/prepared_glance.hpp"
+
+namespace squint::corridor {
+
+struct PerceptionResult {
+  // False when the rapid-perception gate skipped the frame (then every estimate is empty and
+  // every measure's reason is kNotProcessed).
+  bool processed = false;
+  // |H(t) − H(t−1)| / H(reference) (§5.3); none on the first frame after a reset.
+  std::optional<double> gate_change;
+  // Fused estimates (none when no cue answered).
+  std::optional<double> heading_deg;
+  std::optional<double> dist_end_m;
+  // Per cue, indexed by HeadingCue / DistanceCue.
+  std::array<HeadingMeasureResult, kHeadingCueCount> heading{};
+  std::array<DistanceMeasureResult, kDistanceCueCount> distance{};
+  // Whole-glance entropy in nats (at the options' image_bits).
+  double entropy = 0.0;
+
+  const HeadingMeasureResult& Heading(HeadingCue cue) const { return heading[static_cast<int>(cue)]; }
+  const DistanceMeasureResult& Distance(DistanceCue cue) const { return distance[static_cast<int>(cue)]; }
+};
+
+// The gate alone (§5.3), for callers that want it without the measures.
+class RapidPerceptionGate {
+ public:
+  explicit RapidPerceptionGate(GateOptions options = {}) : options_(options) {}
+  // Feeds the entropy of the next glance; returns true when the frame must be fully processed.
+  // The first frame after Reset() becomes the reference and is always processed; so is any frame
+  // when the reference entropy is 0 (a uniform first frame) or the gate is disabled.
+  bool Update(double entropy);
+  // The next frame becomes the new reference (call when a new corridor starts).
+  void Reset();
+  std::optional<double> LastChange() const { return last_change_; }
+
+ private:
+  GateOptions options_;
+  std::optional<double> reference_;
+  std::optional<double> previous_;
+  std::optional<double> last_change_;
+};
+
+class Perceiver {
+ public:
+  using Options = CorridorOptions;
+
+  // `camera`: the full-resolution camera of the frames given to Process(); the glance camera is
+  // camera.Scaled(32, 24). Without intrinsics (none or fx == 0) headings use
+  // options.heading.fallback_deg_per_column. Throws squint::Error when options.Validate() fails.
+  explicit Perceiver(const Options& options = {}, std::optional<CameraModel> camera = std::nullopt);
+  ~Perceiver();
+  Perceiver(const Perceiver&) = delete;
+  Perceiver& operator=(const Perceiver&) = delete;
+
+  // Processes the next frame (grey or colour). `travelled_m`: distance driven since the previous
+  // frame (odometry); when none, options.distance.speed_mps × dt_s is used for time to contact.
+  // dt_s is the time since the previous frame (≥ 0). Every value is finite or absent.
+  PerceptionResult Process(const PixelView& frame, std::optional<double> travelled_m, double dt_s);
+  PerceptionResult Process(const GrayView& frame, std::optional<double> travelled_m, double dt_s) {
+    return Process(PixelView::FromGray(frame), travelled_m, dt_s);
+  }
+  // Same, for a ready 32×24 glance (skips sampling).
+  PerceptionResult ProcessGlance(const Glance& glance, std::optional<double> travelled_m, double dt_s);
+
+  // Forgets the previous frame and the gate reference (a new sequence).
+  void Reset();
+  // The next frame becomes the gate's reference (a new corridor), keeping the previous frame.
+  void ResetGateReference();
+
+  const Options& GetOptions() const { return options_; }
+  const CameraModel& GlanceCamera() const { return glance_camera_; }
+  // The heading (degrees, before calibration) of a glance column.
+  double ColumnToHeadingDeg(double column_px) const;
+
+ private:
+  void Fuse(PerceptionResult& result) const;
+
+  Options options_;
+  CameraModel glance_camera_;
+  bool has_intrinsics_ = false;
+  RapidPerceptionGate gate_;
+  std::array<std::unique_ptr<HeadingMeasure>, kHeadingCueCount> heading_measures_;
+  std::array<std::unique_ptr<DistanceMeasure>, kDistanceCueCount> distance_measures_;
+  // Double buffer of prepared glances: current_ indexes the newest.
+  std::array<PreparedGlance, 2> prepared_{};
+  int current_ = 0;
+  bool has_previous_ = false;
+};
+
+}  // namespace squint::corridor
