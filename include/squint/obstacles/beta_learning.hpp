@@ -1,0 +1,39 @@
+// Learning the threshold β from labelled features by minimising FP(β) + δ·FN(β) (paper eq. 18),
+// per zone, and the refinement band of §6.2.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <vector>
+
+#include "squint/obstacles/classifier.hpp"
+
+namespace squint::obstacles {
+
+// One labelled feature below the horizon: its zone (0–2), its D and whether it truly stands above
+// the floor (ground truth from a label mask).
+struct LabelledDiscrepancy {
+  int zone = 0;
+  double discrepancy_m = 0.0;
+  bool obstacle = false;
+};
+
+struct BetaLearningOptions {
+  double delta = 0.5;  // weight of false negatives (eq. 18)
+  // Zones that get a refinement band; its upper end is this quantile of the D of ground features
+  // misclassified (D > β) in the zone (the paper: "all FP of zone 1 presented D in 20–85 mm").
+  std::array<bool, 3> refine_zone = {false, true, false};
+  double refine_quantile = 0.9;
+  // A zone with fewer samples than this keeps the pooled (all zones) β.
+  int min_zone_samples = 20;
+};
+
+// The β minimising FP + δ·FN over samples (ties: the smallest such β). Obstacle when D > β.
+// None when there are no samples.
+std::optional<double> OptimalBeta(const std::vector<LabelledDiscrepancy>& samples, double delta);
+
+// β for each zone and the refinement bands, starting from `base` (zoning, flags are kept).
+ClassifierOptions LearnZoneThresholds(const std::vector<LabelledDiscrepancy>& samples,
+                                      const BetaLearningOptions& options, const ClassifierOptions& base);
+
+}  // namespace squint::obstacles

@@ -1,0 +1,70 @@
+// Feature detection and matching between two consecutive frames (paper §3.3 step 1): SIFT (the
+// default), ORB and AKAZE with a ratio test, or pyramidal Lucas–Kanade tracking.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace squint::obstacles {
+
+enum class Detector { kSift, kOrb, kAkaze, kKlt };
+
+// "sift", "orb", "akaze", "klt".
+std::string DetectorName(Detector detector);
+// Parses a detector name (case-sensitive, as above); false when unknown.
+bool ParseDetector(const std::string& name, Detector* detector);
+
+struct FeatureOptions {
+  Detector detector = Detector::kSift;
+  // Most features kept per image (SIFT, ORB: strongest first; KLT: corners tracked).
+  int max_features = 400;
+  // Lowe's ratio test: the best match is kept when its distance is below ratio × the second best.
+  double ratio = 0.8;
+  // SIFT contrast threshold (lower finds more features on weakly textured floors).
+  double sift_contrast_threshold = 0.02;
+  // SIFT octave layers.
+  int sift_octave_layers = 3;
+  // ORB FAST threshold and pyramid levels.
+  int orb_fast_threshold = 10;
+  int orb_levels = 4;
+  // AKAZE detector threshold.
+  double akaze_threshold = 0.0005;
+  // KLT: Shi–Tomasi quality level, minimum corner spacing, window, pyramid levels, and the largest
+  // forward–backward tracking error (pixels) accepted (KLT's analogue of the ratio test).
+  double klt_quality = 0.005;
+  double klt_min_distance_px = 5.0;
+  int klt_window_px = 15;
+  int klt_levels = 3;
+  double klt_max_fb_error_px = 1.0;
+  // Matches whose image displacement exceeds this many pixels are dropped (consecutive frames of a
+  // slowly moving robot; a mismatch across the image is never a real correspondence).
+  double max_displacement_px = 60.0;
+
+  // Empty when valid, otherwise what is wrong.
+  std::string Validate() const;
+};
+
+// A correspondence between the earlier (previous) and the later (current) frame, in raw
+// (distorted) pixel coordinates.
+struct Match {
+  cv::Point2f previous;
+  cv::Point2f current;
+};
+
+// One class per detector; Track() finds correspondences between two 8-bit grey images of the same
+// size. Implementations keep their buffers between calls.
+class FeatureTracker {
+ public:
+  virtual ~FeatureTracker() = default;
+  virtual Detector Kind() const = 0;
+  // Appends nothing on failure; `matches` is cleared first.
+  virtual void Track(const cv::Mat& previous, const cv::Mat& current, std::vector<Match>* matches) = 0;
+};
+
+// The tracker the options ask for. Options must be valid (SQUINT_ENSURE).
+std::unique_ptr<FeatureTracker> MakeFeatureTracker(const FeatureOptions& options);
+
+}  // namespace squint::obstacles

@@ -1,0 +1,29 @@
+// Inverse perspective transformation (paper §3.1–3.2, §4.1): back-projection of a pixel onto the
+// floor z = 0 with the frame's odometry pose, the discrepancy D (eq. 4), and the horizon (eq. 10).
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+
+#include "squint/core/camera.hpp"
+#include "squint/core/pose.hpp"
+
+namespace squint::obstacles {
+
+// Eq. 2–3 in general form: the pixel's ray through the camera model and mount meets the floor at a
+// robot-frame point, which world_T_robot maps into the world. None above the horizon (λ < 0, §4.1).
+std::optional<Eigen::Vector2d> FloorPointWorld(const CameraModel& camera, const Pose2& world_T_robot,
+                                               const Eigen::Vector2d& pixel);
+
+// Eq. 4: distance between the two floor points of a feature seen at `previous_pixel` from
+// world_T_previous and at `current_pixel` from world_T_current. None when either pixel lies at or
+// above the horizon.
+std::optional<double> Discrepancy(const CameraModel& camera, const Pose2& world_T_previous,
+                                  const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
+                                  const Eigen::Vector2d& current_pixel);
+
+// Eq. 10 generalised: true when the pixel's ray does not point below the horizon (λ would be
+// negative), so the feature is an obstacle without D. The ray is undistorted by the camera model.
+bool AboveHorizon(const CameraModel& camera, const Eigen::Vector2d& pixel);
+
+}  // namespace squint::obstacles
