@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 
 #include "squint/corridor/measure.hpp"
 #include "squint/corridor/options.hpp"
@@ -60,12 +61,16 @@ class PhaseHeading final : public HeadingMeasure {
 // at the vanishing point, whose x is kept.
 class VanishingHeading final : public HeadingMeasure {
  public:
-  explicit VanishingHeading(const HeadingOptions& options) : options_(options) {}
+  // `horizon_row`: the glance row of the horizon when the camera is known; the search then
+  // covers vanishing points within options.vanishing_row_margin_px of it (else every row).
+  explicit VanishingHeading(const HeadingOptions& options, std::optional<double> horizon_row = std::nullopt)
+      : options_(options), horizon_row_(horizon_row) {}
   HeadingCue Cue() const override { return HeadingCue::kVanishing; }
   void Measure(const PreparedGlance& glance, HeadingMeasureResult& out) const override;
 
  private:
   HeadingOptions options_;
+  std::optional<double> horizon_row_;
 };
 
 // f5: the median column of the brighter of two k-means (k = 2) grey-level clusters in the upper
@@ -80,6 +85,7 @@ class BrightHeading final : public HeadingMeasure {
   HeadingOptions options_;
 };
 
-std::unique_ptr<HeadingMeasure> MakeHeadingMeasure(HeadingCue cue, const HeadingOptions& options);
+std::unique_ptr<HeadingMeasure> MakeHeadingMeasure(HeadingCue cue, const HeadingOptions& options,
+                                                   std::optional<double> horizon_row = std::nullopt);
 
 }  // namespace squint::corridor

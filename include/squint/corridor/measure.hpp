@@ -40,7 +40,6 @@ enum class Reason : std::uint8_t {
   kNotApproaching,      // the image contracts (time-to-contact negative)
   kNoTravel,            // travelled distance unknown or zero, no speed option
   kOutOfRange,          // the estimate lies outside the options' validity range
-  kOutlier,             // the estimate disagrees with the consensus of the other cues
 };
 const char* ReasonText(Reason reason);
 
@@ -53,7 +52,8 @@ struct HeadingMeasureResult {
   Reason reason = Reason::kNotProcessed;
   // How clear the extremum is, in [0, 1] (0 when there is no estimate).
   double confidence = 0.0;
-  // True when fusion used this estimate (false for outliers and missing estimates).
+  // True when fusion used this estimate; false for a missing estimate and for one that
+  // disagreed with the consensus of the other cues (it is kept here, e.g. for calibration).
   bool fused = false;
   // Per-column score (cue-specific units; larger = more likely the corridor axis for every
   // cue; the phase cue stores -|Σ phase|). Columns the cue cannot score hold 0.

@@ -46,11 +46,20 @@ struct HeadingOptions {
   // Vanishing point (f4): grey levels quantised to 2^bits bins (3 -> 8 bins, a 64-bin joint
   // histogram); the half-size glance is slid over this many pixels around each position.
   int vanishing_bits = 3;
+  double vanishing_row_margin_px = 4.0;
+  // Vanishing points farther than this many columns outside the glance are rejected.
+  double vanishing_max_outside_px = 4.0;
   // Bright pixels (f5): rows of the upper part used (fraction of the glance height, paper: the
   // upper half), and the minimum separation of the two k-means centres in grey levels.
   double bright_rows_fraction = 0.5;
   double bright_min_separation = 24.0;
   int kmeans_iterations = 10;
+  // The bright cluster must hold at most this fraction of the rows' pixels (a lit wall, not lights).
+  double bright_max_fraction = 0.5;
+  // Phase (f3): pixels whose Sobel magnitude (grey levels per pixel) is below this are ignored,
+  // and so are near-horizontal edges whose phase |atan(gy/gx)| exceeds phase_max_deg.
+  double phase_min_gradient = 4.0;
+  double phase_max_deg = 75.0;
   // Estimates whose |heading| exceeds this are "out of range".
   double max_abs_heading_deg = 40.0;
   // Fusion: the estimates form a consensus when they lie within this many degrees of the

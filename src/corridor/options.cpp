@@ -1,0 +1,131 @@
+// Validation of the corridor options and the cue names shared by CSV columns and YAML keys.
+#include "squint/corridor/options.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace squint::corridor {
+namespace {
+
+bool Finite(double x) { return std::isfinite(x); }
+
+}  // namespace
+
+const char* CueName(HeadingCue cue) {
+  switch (cue) {
+    case HeadingCue::kEntropy: return "entropy";
+    case HeadingCue::kSymmetry: return "symmetry";
+    case HeadingCue::kPhase: return "phase";
+    case HeadingCue::kVanishing: return "vanishing";
+    case HeadingCue::kBright: return "bright";
+  }
+  return "?";
+}
+
+const char* CueName(DistanceCue cue) {
+  switch (cue) {
+    case DistanceCue::kTimeToContact: return "ttc";
+    case DistanceCue::kJeffrey: return "jeffrey";
+    case DistanceCue::kEntropy: return "entropy";
+  }
+  return "?";
+}
+
+const char* ReasonText(Reason reason) {
+  switch (reason) {
+    case Reason::kNone: return "ok";
+    case Reason::kNotProcessed: return "not processed";
+    case Reason::kDisabled: return "disabled";
+    case Reason::kUniformFrame: return "uniform frame";
+    case Reason::kFlatCurve: return "flat curve";
+    case Reason::kPeakAtBorder: return "peak at border";
+    case Reason::kNoBrightCluster: return "no bright cluster";
+    case Reason::kZeroGradient: return "zero gradient";
+    case Reason::kNoMatch: return "no self-similar match";
+    case Reason::kDegenerateGeometry: return "vanishing point outside the view";
+    case Reason::kNoPreviousFrame: return "no previous frame";
+    case Reason::kIdenticalFrames: return "identical frames";
+    case Reason::kTtcDenominatorZero: return "time-to-contact denominator zero";
+    case Reason::kNotApproaching: return "not approaching";
+    case Reason::kNoTravel: return "travelled distance unknown";
+    case Reason::kOutOfRange: return "out of range";
+  }
+  return "?";
+}
+
+std::string HeadingOptions::Validate() const {
+  std::ostringstream e;
+  for (int i = 0; i < kHeadingCueCount; ++i) {
+    const auto& c = cues[i];
+    const char* name = CueName(static_cast<HeadingCue>(i));
+    if (!Finite(c.weight) || c.weight < 0.0) e << "heading.cues." << name << ".weight must be >= 0; ";
+    if (!Finite(c.scale) || c.scale == 0.0) e << "heading.cues." << name << ".scale must be finite and non-zero; ";
+    if (!Finite(c.bias_deg)) e << "heading.cues." << name << ".bias_deg must be finite; ";
+  }
+  if (slice_width_px < 1 || slice_width_px > 15) e << "heading.slice_width_px must be in [1, 15]; ";
+  if (border_px < 0 || border_px > 8) e << "heading.border_px must be in [0, 8]; ";
+  if (!Finite(min_prominence) || min_prominence < 0.0 || min_prominence > 1.0)
+    e << "heading.min_prominence must be in [0, 1]; ";
+  if (column_bits < 1 || column_bits > 4) e << "heading.column_bits must be in [1, 4]; ";
+  if (symmetry_min_half_width_px < 1 || symmetry_min_half_width_px > symmetry_half_width_px ||
+      symmetry_half_width_px > 15)
+    e << "heading.symmetry_min_half_width_px and symmetry_half_width_px need 1 <= min <= max <= 15; ";
+  if (vanishing_bits < 1 || vanishing_bits > 4) e << "heading.vanishing_bits must be in [1, 4]; ";
+  if (!Finite(vanishing_row_margin_px) || vanishing_row_margin_px < 0.0)
+    e << "heading.vanishing_row_margin_px must be >= 0; ";
+  if (!Finite(vanishing_max_outside_px) || vanishing_max_outside_px < 0.0)
+    e << "heading.vanishing_max_outside_px must be >= 0; ";
+  if (!Finite(bright_rows_fraction) || bright_rows_fraction <= 0.0 || bright_rows_fraction > 1.0)
+    e << "heading.bright_rows_fraction must be in (0, 1]; ";
+  if (!Finite(bright_min_separation) || bright_min_separation < 0.0) e << "heading.bright_min_separation must be >= 0; ";
+  if (!Finite(bright_max_fraction) || bright_max_fraction <= 0.0 || bright_max_fraction > 1.0)
+    e << "heading.bright_max_fraction must be in (0, 1]; ";
+  if (kmeans_iterations < 1 || kmeans_iterations > 100) e << "heading.kmeans_iterations must be in [1, 100]; ";
+  if (!Finite(phase_min_gradient) || phase_min_gradient < 0.0) e << "heading.phase_min_gradient must be >= 0; ";
+  if (!Finite(phase_max_deg) || phase_max_deg <= 0.0 || phase_max_deg >= 90.0)
+    e << "heading.phase_max_deg must be in (0, 90); ";
+  if (!Finite(max_abs_heading_deg) || max_abs_heading_deg <= 0.0 || max_abs_heading_deg >= 90.0)
+    e << "heading.max_abs_heading_deg must be in (0, 90); ";
+  if (!Finite(agreement_deg) || agreement_deg <= 0.0) e << "heading.agreement_deg must be > 0; ";
+  if (!Finite(fallback_deg_per_column) || fallback_deg_per_column <= 0.0)
+    e << "heading.fallback_deg_per_column must be > 0; ";
+  std::string s = e.str();
+  if (s.size() >= 2) s.resize(s.size() - 2);
+  return s;
+}
+
+std::string DistanceOptions::Validate() const {
+  std::ostringstream e;
+  for (int i = 0; i < kDistanceCueCount; ++i)
+    if (!Finite(weights[i]) || weights[i] < 0.0)
+      e << "distance.cues." << CueName(static_cast<DistanceCue>(i)) << ".weight must be >= 0; ";
+  if (!Finite(ttc_scale) || ttc_scale == 0.0) e << "distance.ttc_scale must be finite and non-zero; ";
+  if (!Finite(ttc_bias_m)) e << "distance.ttc_bias_m must be finite; ";
+  if (!Finite(speed_mps) || speed_mps < 0.0) e << "distance.speed_mps must be >= 0; ";
+  if (!Finite(alpha2)) e << "distance.alpha2 must be finite; ";
+  if (!Finite(beta2)) e << "distance.beta2 must be finite; ";
+  if (!Finite(alpha3)) e << "distance.alpha3 must be finite; ";
+  if (image_bits < 1 || image_bits > 8) e << "distance.image_bits must be in [1, 8]; ";
+  if (!Finite(min_m) || !Finite(max_m) || min_m < 0.0 || max_m <= min_m)
+    e << "distance.min_m and max_m need 0 <= min_m < max_m; ";
+  std::string s = e.str();
+  if (s.size() >= 2) s.resize(s.size() - 2);
+  return s;
+}
+
+std::string GateOptions::Validate() const {
+  if (!Finite(threshold) || threshold < 0.0) return "gate.threshold must be >= 0";
+  return {};
+}
+
+std::string CorridorOptions::Validate() const {
+  std::string s;
+  for (const std::string& part : {heading.Validate(), distance.Validate(), gate.Validate()}) {
+    if (part.empty()) continue;
+    if (!s.empty()) s += "; ";
+    s += part;
+  }
+  return s;
+}
+
+}  // namespace squint::corridor

@@ -1,0 +1,189 @@
+// Corridor perception pipeline: glance, rapid-perception gate (§5.3), the eight measures and
+// their fusion (weighted consensus for heading, weighted mean for distance).
+#include "squint/corridor/perceiver.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "squint/core/angles.hpp"
+#include "squint/core/error.hpp"
+
+namespace squint::corridor {
+
+bool RapidPerceptionGate::Update(double entropy) {
+  last_change_.reset();
+  const bool first = !reference_.has_value();
+  if (first) reference_ = entropy;
+  bool process = true;
+  if (!first && previous_) {
+    if (*reference_ > 0.0) {
+      last_change_ = std::abs(entropy - *previous_) / *reference_;
+      process = !options_.enabled || *last_change_ >= options_.threshold;
+    }
+  }
+  previous_ = entropy;
+  return process;
+}
+
+void RapidPerceptionGate::Reset() {
+  reference_.reset();
+}
+
+Perceiver::Perceiver(const Options& options, std::optional<CameraModel> camera)
+    : options_(options), gate_(options.gate) {
+  const std::string problem = options_.Validate();
+  if (!problem.empty()) throw Error("corridor options: " + problem);
+  std::optional<double> horizon_row;
+  if (camera && camera->HasIntrinsics() && camera->width > 0 && camera->height > 0) {
+    glance_camera_ = camera->Scaled(kGlanceWidth, kGlanceHeight);
+    has_intrinsics_ = true;
+    horizon_row = glance_camera_.HorizonRow();
+  } else {
+    glance_camera_.width = kGlanceWidth;
+    glance_camera_.height = kGlanceHeight;
+    glance_camera_.cx = (kGlanceWidth - 1) / 2.0;
+    glance_camera_.cy = (kGlanceHeight - 1) / 2.0;
+  }
+  for (int i = 0; i < kHeadingCueCount; ++i)
+    heading_measures_[i] = MakeHeadingMeasure(static_cast<HeadingCue>(i), options_.heading, horizon_row);
+  distance_measures_[0] =
+      std::make_unique<TimeToContactDistance>(options_.distance, glance_camera_.cx, glance_camera_.cy);
+  distance_measures_[1] = std::make_unique<JeffreyDistance>(options_.distance);
+  distance_measures_[2] = std::make_unique<EntropyDistance>(options_.distance);
+}
+
+Perceiver::~Perceiver() = default;
+
+void Perceiver::Reset() {
+  gate_.Reset();
+  gate_ = RapidPerceptionGate(options_.gate);
+  has_previous_ = false;
+}
+
+void Perceiver::ResetGateReference() { gate_.Reset(); }
+
+double Perceiver::ColumnToHeadingDeg(double column_px) const {
+  if (has_intrinsics_) return RadToDeg(glance_camera_.HeadingFromColumn(column_px));
+  return options_.heading.fallback_deg_per_column * (column_px - glance_camera_.cx);
+}
+
+PerceptionResult Perceiver::Process(const PixelView& frame, std::optional<double> travelled_m, double dt_s) {
+  Glance glance;
+  MakeGlance(frame, options_.sampling, glance);
+  return ProcessGlance(glance, travelled_m, dt_s);
+}
+
+PerceptionResult Perceiver::ProcessGlance(const Glance& glance, std::optional<double> travelled_m, double dt_s) {
+  PerceptionResult result;
+  for (int i = 0; i < kHeadingCueCount; ++i) result.heading[i].cue = static_cast<HeadingCue>(i);
+  for (int i = 0; i < kDistanceCueCount; ++i) result.distance[i].cue = static_cast<DistanceCue>(i);
+
+  const int next = has_previous_ ? 1 - current_ : current_;
+  PreparedGlance& cur = prepared_[next];
+  ComputeHistogramAndEntropy(glance, options_.distance.image_bits, cur);
+  result.entropy = cur.entropy;
+  const bool process = gate_.Update(cur.entropy);
+  result.gate_change = gate_.LastChange();
+  const bool had_previous = has_previous_;
+  const PreparedGlance& prev = prepared_[current_];
+  if (!process) {
+    // Skipped frames still become the previous frame of the next one, so consecutive-frame
+    // measures always compare neighbouring frames.
+    current_ = next;
+    has_previous_ = true;
+    return result;
+  }
+  result.processed = true;
+  PrepareMeasures(options_.heading.column_bits, options_.heading.vanishing_bits, cur);
+
+  for (int i = 0; i < kHeadingCueCount; ++i) {
+    HeadingMeasureResult& h = result.heading[i];
+    const HeadingCueOptions& cue = options_.heading.cues[i];
+    if (!cue.enabled || cue.weight <= 0.0) {
+      h.reason = Reason::kDisabled;
+      continue;
+    }
+    heading_measures_[i]->Measure(cur, h);
+    if (!h.column_px) continue;
+    const double deg = cue.scale * ColumnToHeadingDeg(*h.column_px) + cue.bias_deg;
+    if (!std::isfinite(deg) || std::abs(deg) > options_.heading.max_abs_heading_deg) {
+      h.reason = Reason::kOutOfRange;
+      continue;
+    }
+    h.heading_deg = deg;
+  }
+
+  std::optional<double> travelled = travelled_m;
+  if (!travelled && options_.distance.speed_mps > 0.0 && dt_s > 0.0) travelled = options_.distance.speed_mps * dt_s;
+  for (int i = 0; i < kDistanceCueCount; ++i) {
+    DistanceMeasureResult& d = result.distance[i];
+    if (!options_.distance.enabled[i] || options_.distance.weights[i] <= 0.0) {
+      d.reason = Reason::kDisabled;
+      continue;
+    }
+    if (!had_previous) {
+      d.reason = Reason::kNoPreviousFrame;
+      continue;
+    }
+    distance_measures_[i]->Measure(prev, cur, travelled, d);
+  }
+  Fuse(result);
+  current_ = next;
+  has_previous_ = true;
+  return result;
+}
+
+void Perceiver::Fuse(PerceptionResult& result) const {
+  // Heading: weighted median of the available cues, then the weighted mean of those within
+  // agreement_deg of it (a consensus), so one cue peaking on a lit wall cannot drag the answer.
+  struct Candidate {
+    double deg;
+    double weight;
+    int cue;
+  };
+  std::array<Candidate, kHeadingCueCount> c{};
+  int n = 0;
+  double total = 0.0;
+  for (int i = 0; i < kHeadingCueCount; ++i) {
+    const HeadingMeasureResult& h = result.heading[i];
+    if (!h.heading_deg) continue;
+    const double w = options_.heading.cues[i].weight;
+    c[n++] = {*h.heading_deg, w, i};
+    total += w;
+  }
+  if (n > 0 && total > 0.0) {
+    // Insertion sort by degrees (at most five; also keeps GCC's bounds analysis quiet).
+    for (int k = 1; k < n; ++k)
+      for (int m = k; m > 0 && c[m].deg < c[m - 1].deg; --m) std::swap(c[m], c[m - 1]);
+    double acc = 0.0, median = c[0].deg;
+    for (int k = 0; k < n; ++k) {
+      acc += c[k].weight;
+      if (acc >= 0.5 * total) {
+        median = c[k].deg;
+        // Between two cues when the weight splits exactly.
+        if (acc == 0.5 * total && k + 1 < n) median = 0.5 * (c[k].deg + c[k + 1].deg);
+        break;
+      }
+    }
+    double sw = 0.0, swd = 0.0;
+    for (int k = 0; k < n; ++k) {
+      if (std::abs(c[k].deg - median) > options_.heading.agreement_deg) continue;
+      sw += c[k].weight;
+      swd += c[k].weight * c[k].deg;
+      result.heading[c[k].cue].fused = true;
+    }
+    if (sw > 0.0) result.heading_deg = swd / sw;
+  }
+  // Distance: weighted mean of the available estimates (paper §5.3).
+  double sw = 0.0, swd = 0.0;
+  for (int i = 0; i < kDistanceCueCount; ++i) {
+    DistanceMeasureResult& d = result.distance[i];
+    if (!d.dist_m) continue;
+    sw += options_.distance.weights[i];
+    swd += options_.distance.weights[i] * *d.dist_m;
+    d.fused = true;
+  }
+  if (sw > 0.0) result.dist_end_m = swd / sw;
+}
+
+}  // namespace squint::corridor

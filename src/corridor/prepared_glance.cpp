@@ -1,0 +1,58 @@
+// Per-glance shared quantities: whole-glance histogram and entropy, quantised levels, Sobel.
+#include "squint/corridor/prepared_glance.hpp"
+
+#include <algorithm>
+
+#include "squint/corridor/information.hpp"
+
+namespace squint::corridor {
+
+void ComputeHistogramAndEntropy(const Glance& glance, int image_bits, PreparedGlance& out) {
+  out.glance = glance;
+  const int shift = 8 - image_bits;
+  out.image_bins = 1 << image_bits;
+  // Four interleaved partial histograms avoid store-to-load stalls on repeated bins.
+  std::uint32_t part[4][kMaxImageBins] = {};
+  std::uint8_t lo = 255, hi = 0;
+  const std::uint8_t* p = glance.pixels.data();
+  for (int i = 0; i < kGlancePixels; i += 4) {
+    ++part[0][p[i] >> shift];
+    ++part[1][p[i + 1] >> shift];
+    ++part[2][p[i + 2] >> shift];
+    ++part[3][p[i + 3] >> shift];
+  }
+  for (int i = 0; i < kGlancePixels; ++i) {
+    lo = std::min(lo, p[i]);
+    hi = std::max(hi, p[i]);
+  }
+  for (int b = 0; b < out.image_bins; ++b) out.histogram[b] = part[0][b] + part[1][b] + part[2][b] + part[3][b];
+  out.min_level = lo;
+  out.max_level = hi;
+  out.entropy = EntropyFromCounts(out.histogram.data(), out.image_bins, kGlancePixels);
+  out.valid = true;
+}
+
+void PrepareMeasures(int column_bits, int vanishing_bits, PreparedGlance& out) {
+  const std::uint8_t* p = out.glance.pixels.data();
+  const int cs = 8 - column_bits, vs = 8 - vanishing_bits;
+  for (int i = 0; i < kGlancePixels; ++i) {
+    out.column_level[i] = static_cast<std::uint8_t>(p[i] >> cs);
+    out.vanishing_level[i] = static_cast<std::uint8_t>(p[i] >> vs);
+  }
+  constexpr int w = kGlanceWidth;
+  out.grad_x.fill(0);
+  out.grad_y.fill(0);
+  for (int v = 1; v < kGlanceHeight - 1; ++v) {
+    const std::uint8_t* a = p + (v - 1) * w;
+    const std::uint8_t* b = p + v * w;
+    const std::uint8_t* c = p + (v + 1) * w;
+    for (int u = 1; u < w - 1; ++u) {
+      const int gx = (a[u + 1] + 2 * b[u + 1] + c[u + 1]) - (a[u - 1] + 2 * b[u - 1] + c[u - 1]);
+      const int gy = (c[u - 1] + 2 * c[u] + c[u + 1]) - (a[u - 1] + 2 * a[u] + a[u + 1]);
+      out.grad_x[v * w + u] = static_cast<std::int16_t>(gx);
+      out.grad_y[v * w + u] = static_cast<std::int16_t>(gy);
+    }
+  }
+}
+
+}  // namespace squint::corridor
