@@ -35,14 +35,16 @@ TEST(Metrics, EmptyInputGivesZerosNotNan) {
 TEST(Metrics, BinsHoldMeanSigmaAndSign) {
   std::vector<Sample> s{{-1.2, -2.0}, {-1.4, 1.0}, {0.2, 0.0}, {0.0, 3.0}, {0.7, 2.0}};
   const std::vector<BinStats> b = BinByTruth(s, 1.0, -0.5);
-  ASSERT_EQ(b.size(), 2u);
+  ASSERT_EQ(b.size(), 3u);
   EXPECT_DOUBLE_EQ(b[0].lo, -1.5);
   EXPECT_EQ(b[0].frames, 2u);
   EXPECT_DOUBLE_EQ(b[0].mean_estimate, -0.5);
   EXPECT_DOUBLE_EQ(b[0].std_estimate, 1.5);
   EXPECT_DOUBLE_EQ(b[0].right_sign_fraction, 0.5);
   EXPECT_DOUBLE_EQ(b[1].lo, -0.5);
-  EXPECT_EQ(b[1].frames, 2u);  // 0.7 falls into [0.5, 1.5)
+  EXPECT_EQ(b[1].frames, 2u);  // 0.2 and 0.0; 0.7 falls into [0.5, 1.5)
+  EXPECT_EQ(b[2].frames, 1u);
+  EXPECT_DOUBLE_EQ(b[2].right_sign_fraction, 1.0);
   // truth 0 has no sign; 0.2 → estimate 0 is not positive.
   EXPECT_EQ(b[1].signed_frames, 1u);
   EXPECT_DOUBLE_EQ(b[1].right_sign_fraction, 0.0);
