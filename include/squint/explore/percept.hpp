@@ -1,0 +1,40 @@
+// What the explorer sees each frame (camera-derived estimates plus wheel odometry) and what it
+// commands. Nothing here comes from a simulator's ground truth: the explorer is blind to it.
+#pragma once
+
+#include <optional>
+
+#include "squint/core/pose.hpp"
+
+namespace squint::explore {
+
+// Advice of the obstacle pipeline (issue 6's polar map and free-gap steering), when it runs.
+struct ObstacleAdvice {
+  bool obstacle_in_roi = false;  // some sector of the region of interest is occupied
+  bool blocked = false;          // no free gap wide enough for the robot
+  double steer_deg = 0.0;        // centre of the widest free gap, left positive
+};
+
+// One camera frame's worth of perception, as the explorer consumes it. All estimates come from
+// the 32×24 glance (corridor module) and the odometry from the wheels.
+struct Percept {
+  double stamp_s = 0.0;
+  Pose2 odom_T_robot;  // wheel odometry (drifts; the explorer corrects its yaw by vision)
+  // True when the rapid-perception gate let the frame through to full processing; when false
+  // the estimates below are empty and the explorer propagates the last ones by odometry.
+  bool processed = false;
+  std::optional<double> heading_deg;         // fused heading relative to the corridor axis
+  std::optional<double> centre_heading_deg;  // translation-sensitive cues (bright pixels, symmetry)
+  std::optional<double> dist_end_m;          // fused distance to the corridor's end
+  // Whole-glance grey-level entropy (bits); the gate computes it on every frame, processed or not.
+  std::optional<double> glance_entropy_bits;
+  std::optional<ObstacleAdvice> obstacles;   // empty when the obstacle pipeline is off
+};
+
+// Unicycle velocity command.
+struct Command {
+  double v_mps = 0.0;
+  double omega_rps = 0.0;  // counter-clockwise positive
+};
+
+}  // namespace squint::explore

@@ -1,0 +1,373 @@
+// The exploration state machine: scan, follow (heading by vision propagated by odometry,
+// centring by translation-sensitive cues), stop at the end, probe both sides by entropy, turn.
+#include "squint/explore/explorer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+
+#include "squint/core/angles.hpp"
+#include "squint/core/error.hpp"
+
+namespace squint::explore {
+namespace {
+
+// printf-style formatting into a std::string (events only, never per frame in steady state).
+std::string Format(const char* fmt, ...) {
+  char buf[256];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(buf, sizeof buf, fmt, args);
+  va_end(args);
+  return buf;
+}
+
+bool Positive(double x) { return std::isfinite(x) && x > 0.0; }
+bool NonNegative(double x) { return std::isfinite(x) && x >= 0.0; }
+
+}  // namespace
+
+std::string ExplorerOptions::Validate() const {
+  if (!Positive(cruise_speed_mps)) return "cruise_speed_mps must be positive";
+  if (!Positive(max_omega_rps)) return "max_omega_rps must be positive";
+  if (!Positive(heading_gain)) return "heading_gain must be positive";
+  if (!Positive(slow_heading_deg)) return "slow_heading_deg must be positive";
+  if (!(min_speed_fraction > 0.0 && min_speed_fraction <= 1.0)) return "min_speed_fraction must be in (0, 1]";
+  if (!(axis_gain > 0.0 && axis_gain <= 1.0)) return "axis_gain must be in (0, 1]";
+  if (!Positive(axis_outlier_deg)) return "axis_outlier_deg must be positive";
+  if (!NonNegative(centre_gain)) return "centre_gain must be >= 0";
+  if (!(centre_filter > 0.0 && centre_filter <= 1.0)) return "centre_filter must be in (0, 1]";
+  if (!NonNegative(max_centre_correction_deg)) return "max_centre_correction_deg must be >= 0";
+  if (!Positive(end_stop_dist_m)) return "end_stop_dist_m must be positive";
+  if (end_confirm_frames < 1) return "end_confirm_frames must be >= 1";
+  if (!NonNegative(min_travel_before_end_m)) return "min_travel_before_end_m must be >= 0";
+  if (!Positive(turn_rate_rps)) return "turn_rate_rps must be positive";
+  if (!Positive(turn_tolerance_deg)) return "turn_tolerance_deg must be positive";
+  if (settle_frames < 0) return "settle_frames must be >= 0";
+  if (look_frames < 1) return "look_frames must be >= 1";
+  if (!(open_entropy_ratio > 0.0 && open_entropy_ratio <= 2.0)) return "open_entropy_ratio must be in (0, 2]";
+  if (reference_window < 1) return "reference_window must be >= 1";
+  if (scan_bins < 8) return "scan_bins must be >= 8";
+  if (!Positive(stall_window_s)) return "stall_window_s must be positive";
+  if (!NonNegative(stall_min_progress_m)) return "stall_min_progress_m must be >= 0";
+  if (!NonNegative(avoid_gain)) return "avoid_gain must be >= 0";
+  if (!(avoid_speed_fraction > 0.0 && avoid_speed_fraction <= 1.0)) return "avoid_speed_fraction must be in (0, 1]";
+  if (std::string e = map.Validate(); !e.empty()) return "map." + e;
+  return {};
+}
+
+const char* StateName(ExploreState s) {
+  switch (s) {
+    case ExploreState::kScan: return "scan";
+    case ExploreState::kFollow: return "follow";
+    case ExploreState::kProbe: return "probe";
+    case ExploreState::kTurn: return "turn";
+    case ExploreState::kBackOff: return "backoff";
+  }
+  return "?";
+}
+
+Explorer::Explorer(const ExplorerOptions& options) : opt_(options), map_(options.map) {
+  const std::string err = opt_.Validate();
+  SQUINT_ENSURE(err.empty(), "ExplorerOptions: " + err);
+  ref_entropy_.reserve(static_cast<std::size_t>(opt_.reference_window));
+  scan_sum_.assign(static_cast<std::size_t>(opt_.scan_bins), 0.0);
+  scan_count_.assign(static_cast<std::size_t>(opt_.scan_bins), 0);
+}
+
+double Explorer::HeadingEstimateDeg() const { return RadToDeg(WrapPi(last_odom_.yaw - axis_yaw_odom_)); }
+
+bool Explorer::TakeGateReset() {
+  const bool r = gate_reset_;
+  gate_reset_ = false;
+  return r;
+}
+
+void Explorer::Emit(ExploreEvent::Kind kind, const Percept& p, int turn_deg, const std::string& note) {
+  events_.push_back(ExploreEvent{kind, p.stamp_s, p.odom_T_robot, turn_deg, node_, note});
+}
+
+Command Explorer::Step(const Percept& p) {
+  if (!started_) {
+    started_ = true;
+    last_odom_ = p.odom_T_robot;
+    scan_start_yaw_ = p.odom_T_robot.yaw;
+    scan_prev_yaw_ = p.odom_T_robot.yaw;
+    map_yaw_offset_ = p.odom_T_robot.yaw;
+    axis_yaw_odom_ = p.odom_T_robot.yaw;
+  }
+  UpdateMapPose(p);
+  switch (state_) {
+    case ExploreState::kScan: return ScanStep(p);
+    case ExploreState::kFollow: return FollowStep(p);
+    case ExploreState::kProbe: return ProbeStep(p);
+    case ExploreState::kTurn: return TurnStep(p);
+    case ExploreState::kBackOff: return BackOffStep(p);
+  }
+  return {};
+}
+
+void Explorer::UpdateMapPose(const Percept& p) {
+  const Pose2 delta = Between(last_odom_, p.odom_T_robot);
+  const double ds = delta.x;  // forward travel (signed); unicycle: no sideways motion
+  const double yaw = WrapPi(p.odom_T_robot.yaw - map_yaw_offset_);
+  const double mid = WrapPi(yaw - 0.5 * delta.yaw);
+  map_pose_.x += ds * std::cos(mid);
+  map_pose_.y += ds * std::sin(mid);
+  map_pose_.yaw = yaw;
+  if (state_ == ExploreState::kFollow) {
+    travel_in_corridor_m_ += std::abs(ds);
+    if (dist_end_m_ >= 0.0) dist_end_m_ = std::max(0.0, dist_end_m_ - ds * std::cos(WrapPi(p.odom_T_robot.yaw - axis_yaw_odom_)));
+  }
+  last_odom_ = p.odom_T_robot;
+}
+
+bool Explorer::Rotate(const Percept& p, Rotation& r, Command& cmd) const {
+  const double err = WrapPi(r.target_yaw - p.odom_T_robot.yaw);
+  cmd = {};
+  if (std::abs(err) > DegToRad(opt_.turn_tolerance_deg)) {
+    double w = std::clamp(2.5 * err, -opt_.turn_rate_rps, opt_.turn_rate_rps);
+    if (std::abs(w) < 0.15) w = std::copysign(0.15, err);
+    cmd.omega_rps = w;
+    r.settle = 0;
+    return false;
+  }
+  return ++r.settle > opt_.settle_frames;
+}
+
+// --- Scan -------------------------------------------------------------------------------------
+
+Command Explorer::ScanStep(const Percept& p) {
+  const int bins = opt_.scan_bins;
+  if (scan_rotating_) {
+    const double rel = WrapPi(p.odom_T_robot.yaw - scan_start_yaw_);
+    const double u = (rel < 0 ? rel + 2 * kPi : rel) / (2 * kPi);
+    const int b = std::clamp(static_cast<int>(u * bins), 0, bins - 1);
+    if (p.glance_entropy_bits) {
+      scan_sum_[b] += *p.glance_entropy_bits;
+      ++scan_count_[b];
+    }
+    // Progress of the full turn from the yaw travelled (odometry).
+    scan_turned_ += std::abs(WrapPi(p.odom_T_robot.yaw - scan_prev_yaw_));
+    scan_prev_yaw_ = p.odom_T_robot.yaw;
+    if (scan_turned_ < 2 * kPi + DegToRad(360.0 / bins)) return {0.0, 0.7 * opt_.turn_rate_rps};
+    // Circularly smoothed mean entropy per bin; the robot sets off toward the maximum.
+    double best = -1.0;
+    int best_b = 0;
+    for (int i = 0; i < bins; ++i) {
+      double s = 0.0;
+      int n = 0;
+      for (int k = -1; k <= 1; ++k) {
+        const int j = (i + k + bins) % bins;
+        s += scan_sum_[j];
+        n += scan_count_[j];
+      }
+      if (n > 0 && s / n > best) {
+        best = s / n;
+        best_b = i;
+      }
+    }
+    scan_rotating_ = false;
+    last_ref_entropy_ = std::max(best, 0.0);
+    scan_final_ = Rotation{WrapPi(scan_start_yaw_ + (best_b + 0.5) * 2 * kPi / bins), 0};
+  }
+  Command cmd;
+  if (!Rotate(p, scan_final_, cmd)) return cmd;
+  axis_yaw_odom_ = scan_final_.target_yaw;
+  map_yaw_offset_ = axis_yaw_odom_;
+  dir_ = 0;
+  Emit(ExploreEvent::Kind::kScanDone, p, 0, Format("set off at odometry yaw %.0f deg", RadToDeg(axis_yaw_odom_)));
+  StartFollow(p);
+  return {};
+}
+
+// --- Follow -----------------------------------------------------------------------------------
+
+void Explorer::StartFollow(const Percept&) {
+  state_ = ExploreState::kFollow;
+  end_count_ = 0;
+  travel_in_corridor_m_ = 0.0;
+  dist_end_m_ = -1.0;
+  lateral_cue_deg_ = 0.0;
+  lateral_valid_ = false;
+  ref_entropy_.clear();
+  ref_next_ = 0;
+  gate_reset_ = true;
+  stall_since_s_ = -1.0;
+}
+
+void Explorer::UpdateAxis(const Percept& p) {
+  if (!p.processed || !p.heading_deg) return;
+  const double measured_axis = p.odom_T_robot.yaw - DegToRad(*p.heading_deg);
+  const double innovation = WrapPi(measured_axis - axis_yaw_odom_);
+  if (std::abs(innovation) > DegToRad(opt_.axis_outlier_deg)) return;
+  axis_yaw_odom_ = WrapPi(axis_yaw_odom_ + opt_.axis_gain * innovation);
+  map_yaw_offset_ = WrapPi(axis_yaw_odom_ - YawOfDirection(dir_));
+}
+
+double Explorer::ReferenceEntropy() const {
+  if (ref_entropy_.size() < 8) return last_ref_entropy_;
+  std::vector<double> v = ref_entropy_;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+Command Explorer::FollowStep(const Percept& p) {
+  UpdateAxis(p);
+  if (p.processed && p.heading_deg && p.centre_heading_deg) {
+    const double meas = std::clamp(*p.centre_heading_deg - *p.heading_deg, -30.0, 30.0);
+    lateral_cue_deg_ = lateral_valid_ ? lateral_cue_deg_ + opt_.centre_filter * (meas - lateral_cue_deg_) : meas;
+    lateral_valid_ = true;
+  }
+  // Reference entropy: looking down this corridor, sampled every ~0.15 m so the approach to the
+  // end does not dominate.
+  if (p.glance_entropy_bits && dist_end_m_ != 0.0) {
+    const double sample_every_m = 0.15;
+    if (ref_entropy_.empty() || travel_in_corridor_m_ >= sample_every_m * static_cast<double>(ref_next_ + 1)) {
+      const std::size_t cap = static_cast<std::size_t>(opt_.reference_window);
+      if (ref_entropy_.size() < cap) ref_entropy_.push_back(*p.glance_entropy_bits);
+      else ref_entropy_[static_cast<std::size_t>(ref_next_) % cap] = *p.glance_entropy_bits;
+      ++ref_next_;
+    }
+  }
+  // The end of the corridor from the fused distance.
+  if (p.processed && p.dist_end_m) {
+    dist_end_m_ = std::max(0.0, *p.dist_end_m);
+    if (dist_end_m_ < opt_.end_stop_dist_m && travel_in_corridor_m_ >= opt_.min_travel_before_end_m) ++end_count_;
+    else end_count_ = 0;
+  }
+  if (end_count_ >= opt_.end_confirm_frames) {
+    ++ends_;
+    last_ref_entropy_ = ReferenceEntropy();
+    node_ = map_.Arrive(map_pose_.Translation(), dir_);
+    map_.SetBranch(node_, dir_, Branch::kWall);
+    Emit(ExploreEvent::Kind::kEndDetected, p, 0, Format("end at %.2f m", dist_end_m_));
+    state_ = ExploreState::kProbe;
+    probe_phase_ = 0;
+    look_count_ = 0;
+    look_sum_ = 0.0;
+    n_probes_ = 0;
+    rot_ = Rotation{axis_yaw_odom_, 0};
+    return {};
+  }
+
+  // Stall guard (odometry only): commanded forward for a while, the wheels did not move.
+  if (stall_since_s_ < 0.0) {
+    stall_since_s_ = p.stamp_s;
+    stall_odom_ = p.odom_T_robot;
+  } else if (p.stamp_s - stall_since_s_ >= opt_.stall_window_s) {
+    const double moved = (p.odom_T_robot.Translation() - stall_odom_.Translation()).norm();
+    stall_since_s_ = p.stamp_s;
+    stall_odom_ = p.odom_T_robot;
+    if (moved < opt_.stall_min_progress_m) {
+      Emit(ExploreEvent::Kind::kStall, p, 0, "no wheel progress: backing off");
+      state_ = ExploreState::kBackOff;
+      backoff_until_s_ = p.stamp_s + 1.0;
+      return {};
+    }
+  }
+
+  const double heading = WrapPi(p.odom_T_robot.yaw - axis_yaw_odom_);
+  Command cmd;
+  if (p.obstacles && p.obstacles->obstacle_in_roi) {
+    // Obstacles in the region of interest override corridor following: free-gap steering.
+    if (p.obstacles->blocked) return {0.0, 0.0};
+    cmd.omega_rps = std::clamp(opt_.avoid_gain * DegToRad(p.obstacles->steer_deg), -opt_.max_omega_rps, opt_.max_omega_rps);
+    cmd.v_mps = opt_.cruise_speed_mps * opt_.avoid_speed_fraction;
+    return cmd;
+  }
+  const double correction = lateral_valid_ ? std::clamp(-opt_.centre_gain * lateral_cue_deg_, -opt_.max_centre_correction_deg,
+                                                        opt_.max_centre_correction_deg)
+                                           : 0.0;
+  const double err = WrapPi(DegToRad(correction) - heading);
+  cmd.omega_rps = std::clamp(opt_.heading_gain * err, -opt_.max_omega_rps, opt_.max_omega_rps);
+  const double frac = std::max(opt_.min_speed_fraction, 1.0 - std::abs(RadToDeg(err)) / opt_.slow_heading_deg);
+  cmd.v_mps = opt_.cruise_speed_mps * frac;
+  return cmd;
+}
+
+// --- Back off -------------------------------------------------------------------------------
+
+Command Explorer::BackOffStep(const Percept& p) {
+  if (p.stamp_s < backoff_until_s_) return {-0.15, 0.0};
+  // Treat the blockage like the end of the corridor: look and choose.
+  ++ends_;
+  last_ref_entropy_ = ReferenceEntropy();
+  node_ = map_.Arrive(map_pose_.Translation(), dir_);
+  map_.SetBranch(node_, dir_, Branch::kWall);
+  state_ = ExploreState::kProbe;
+  probe_phase_ = 0;
+  look_count_ = 0;
+  look_sum_ = 0.0;
+  n_probes_ = 0;
+  rot_ = Rotation{axis_yaw_odom_, 0};
+  return {};
+}
+
+// --- Probe: look left and right, decide by entropy --------------------------------------------
+
+Command Explorer::ProbeStep(const Percept& p) {
+  const TopoNode& node = map_.Nodes()[node_];
+  while (probe_phase_ < 2 && node.branch[(dir_ + probe_sides_[probe_phase_]) & 3] != Branch::kUnknown) {
+    ++probe_phase_;  // already known from an earlier visit: no need to look again
+    rot_.settle = 0;
+  }
+  if (probe_phase_ >= 2) {
+    Decide(p);
+    return {};
+  }
+  const int side_dir = (dir_ + probe_sides_[probe_phase_]) & 3;
+  rot_.target_yaw = WrapPi(axis_yaw_odom_ + probe_sides_[probe_phase_] * kPi / 2.0);
+  Command cmd;
+  if (look_count_ == 0 && !Rotate(p, rot_, cmd)) return cmd;
+  if (p.glance_entropy_bits) {
+    look_sum_ += *p.glance_entropy_bits;
+    ++look_count_;
+  }
+  if (look_count_ < opt_.look_frames) return {};
+  const double h = look_sum_ / look_count_;
+  side_entropy_[probe_phase_] = h;
+  const bool open = h >= opt_.open_entropy_ratio * last_ref_entropy_;
+  map_.SetBranch(node_, side_dir, open ? Branch::kOpen : Branch::kWall);
+  ++n_probes_;
+  ++probe_phase_;
+  look_count_ = 0;
+  look_sum_ = 0.0;
+  rot_.settle = 0;
+  return {};
+}
+
+void Explorer::Decide(const Percept& p) {
+  const TopoNode& node = map_.Nodes()[node_];
+  int next = map_.ChooseBranch(node_, dir_);
+  if (next < 0) next = Opposite(dir_);
+  const int rel = (next - dir_ + 4) & 3;
+  const int turn_deg = rel == 0 ? 0 : rel == 1 ? 90 : rel == 3 ? -90 : 180;
+  const std::string note = Format("left %s, right %s (H %.2f/%.2f, ref %.2f)",
+                                       BranchName(node.branch[(dir_ + 1) & 3]), BranchName(node.branch[(dir_ + 3) & 3]),
+                                       side_entropy_[0], side_entropy_[1], last_ref_entropy_);
+  StartTurnTo(p, next, turn_deg, note);
+}
+
+void Explorer::StartTurnTo(const Percept& p, int dir, int turn_deg, const std::string& note) {
+  turn_to_dir_ = dir;
+  const int rel = (dir - dir_ + 4) & 3;
+  rot_ = Rotation{WrapPi(axis_yaw_odom_ + rel * kPi / 2.0), 0};
+  state_ = ExploreState::kTurn;
+  ++turns_;
+  Emit(ExploreEvent::Kind::kTurn, p, turn_deg, note);
+}
+
+Command Explorer::TurnStep(const Percept& p) {
+  Command cmd;
+  if (!Rotate(p, rot_, cmd)) return cmd;
+  axis_yaw_odom_ = rot_.target_yaw;
+  dir_ = turn_to_dir_;
+  map_yaw_offset_ = WrapPi(axis_yaw_odom_ - YawOfDirection(dir_));
+  map_.Depart(node_, dir_);
+  StartFollow(p);
+  return {};
+}
+
+}  // namespace squint::explore
