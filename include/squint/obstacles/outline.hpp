@@ -1,0 +1,62 @@
+// Obstacle outlines (obstacle paper §5.1, §6.3): from each obstacle feature, the edge pixels in
+// a window around it are traced downward until the last edge pixel or a ground feature; where a
+// trace ends is an obstacle-to-floor contact point (in pixels).
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "squint/obstacles/feature.hpp"
+
+namespace squint::obstacles {
+
+struct OutlineOptions {
+  // Search window centred on an obstacle feature (paper §6.3: 9×15, taller than wide so that a
+  // feature a little above or below a break in a vertical border still finds it). Odd sizes.
+  int window_width_px = 9;
+  int window_height_px = 15;
+  // A trace stops on a ground feature: a pixel within this Chebyshev distance of one.
+  int ground_stop_radius_px = 1;
+  // Rows a trace may jump over when the edge below is broken (0 = the paper: stop at the last
+  // edge pixel).
+  int max_gap_rows = 0;
+
+  std::string Validate() const;
+};
+
+// One traced outline: the pixels from its seed down to its contact point.
+struct OutlineTrace {
+  int first = 0;  // index of its first pixel in OutlineTracer::Pixels()
+  int count = 0;
+  Eigen::Vector2i contact_px;  // the last pixel: where the obstacle meets the floor
+  bool stopped_on_ground = false;
+};
+
+// Traces outlines into buffers reused from frame to frame. Not thread-safe.
+class OutlineTracer {
+ public:
+  explicit OutlineTracer(OutlineOptions options = {});
+
+  // `edges`: CV_8U mask (non-zero = edge) as EdgeMapper gives. Features outside the image are
+  // ignored. Returns one trace per distinct outline, in a deterministic order (features in the
+  // given order, seeds top-to-bottom then left-to-right); a trace that joins a pixel already on
+  // another outline ends there and adds no contact.
+  const std::vector<OutlineTrace>& Trace(const cv::Mat& edges, std::span<const ClassifiedFeature> features);
+
+  // Every outline pixel of the last call, including branches that merged into another outline.
+  const std::vector<Eigen::Vector2i>& Pixels() const { return pixels_; }
+  const OutlineOptions& Options() const { return options_; }
+
+ private:
+  OutlineOptions options_;
+  cv::Mat ground_;   // CV_8U: 1 near a ground feature
+  cv::Mat visited_;  // CV_8U: 1 on a traced outline
+  std::vector<OutlineTrace> traces_;
+  std::vector<Eigen::Vector2i> pixels_;
+};
+
+}  // namespace squint::obstacles

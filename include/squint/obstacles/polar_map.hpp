@@ -1,0 +1,66 @@
+// The local polar occupancy map (obstacle paper §5.3): a semicircular region of interest in
+// front of the robot, split into angular sectors; a sector holding contact points is occupied.
+// Also readable as a range-per-bearing array, like a laser scan ("visual sonar").
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "squint/core/camera.hpp"
+#include "squint/obstacles/contacts.hpp"
+
+namespace squint::obstacles {
+
+struct PolarMapOptions {
+  double roi_radius_m = 1.5;  // paper §6.1
+  double sector_deg = 5.0;    // must divide 180 into a whole number of sectors
+  // Contact points a sector needs to be occupied (the paper's histogram: "a set of" points).
+  int min_contacts = 1;
+
+  std::string Validate() const;
+};
+
+enum class SectorState { kFree, kOccupied, kUnseen };
+
+struct PolarSector {
+  double start_deg = 0.0;   // lower bearing edge (right side); sectors run right to left
+  double centre_deg = 0.0;
+  double end_deg = 0.0;
+  bool in_view = false;     // the floor at the ROI radius is inside the image across the sector
+  SectorState state = SectorState::kUnseen;
+  int contacts = 0;                // contact points inside the ROI
+  std::optional<double> range_m;   // nearest contact inside the ROI
+  std::optional<double> nearest_m; // nearest contact at any range (the "visual sonar" reading)
+};
+
+struct PolarMap {
+  double roi_radius_m = 0.0;
+  double sector_deg = 0.0;
+  std::vector<PolarSector> sectors;  // from -90° (right) to +90° (left)
+};
+
+// Builds maps into a buffer reused from frame to frame. A sector is occupied when it holds at
+// least min_contacts contact points within the ROI (whether or not it is fully in view), free
+// when it is in view and holds fewer, unseen otherwise.
+class PolarMapper {
+ public:
+  PolarMapper(const CameraModel& camera, PolarMapOptions options = {});
+
+  const PolarMap& Build(std::span<const ContactPoint> contacts);
+
+  // Index of the sector holding a bearing in [-90, 90]; none outside.
+  std::optional<int> SectorOf(double bearing_deg) const;
+  const PolarMapOptions& Options() const { return options_; }
+  const PolarMap& Map() const { return map_; }
+
+ private:
+  PolarMapOptions options_;
+  PolarMap map_;
+};
+
+// Whether the floor point at `range_m` and `bearing_deg` projects inside the camera's image.
+bool FloorBearingInView(const CameraModel& camera, double range_m, double bearing_deg);
+
+}  // namespace squint::obstacles

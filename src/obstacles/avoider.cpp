@@ -1,0 +1,52 @@
+// The obstacle-avoidance stage: edges -> outlines -> contacts -> polar map -> steering.
+#include "squint/obstacles/avoider.hpp"
+
+#include "squint/core/error.hpp"
+
+namespace squint::obstacles {
+
+std::string AvoidOptions::Validate() const {
+  for (const std::string& p : {edges.Validate(), outline.Validate(), polar.Validate(), gap.Validate()}) {
+    if (!p.empty()) return p;
+  }
+  return {};
+}
+
+namespace {
+const AvoidOptions& Checked(const CameraModel& camera, const AvoidOptions& options) {
+  const std::string cam = camera.Validate();
+  if (!cam.empty()) throw Error("avoid: invalid camera: " + cam);
+  if (!camera.HasIntrinsics()) throw Error("avoid: the camera has no intrinsics (fx, fy)");
+  const std::string problem = options.Validate();
+  if (!problem.empty()) throw Error("avoid options: " + problem);
+  return options;
+}
+}  // namespace
+
+Avoider::Avoider(const CameraModel& camera, AvoidOptions options)
+    : camera_(camera),
+      options_(Checked(camera, options)),
+      edges_(options_.edges),
+      tracer_(options_.outline),
+      polar_(camera_, options_.polar) {
+  result_.contacts.reserve(256);
+  result_.gaps.reserve(64);
+}
+
+const AvoidResult& Avoider::Process(const cv::Mat& gray, std::span<const ClassifiedFeature> features) {
+  SQUINT_ENSURE(gray.type() == CV_8UC1 && gray.cols == camera_.width && gray.rows == camera_.height,
+                "Avoider::Process needs an 8-bit grey image of the camera's size");
+  result_.edges = &edges_.Compute(gray);
+  result_.traces = &tracer_.Trace(*result_.edges, features);
+  result_.outline_pixels = &tracer_.Pixels();
+  result_.contacts.clear();
+  for (const OutlineTrace& t : *result_.traces) {
+    if (auto c = ContactFromPixel(camera_, t.contact_px.cast<double>())) result_.contacts.push_back(*c);
+  }
+  result_.map = &polar_.Build(result_.contacts);
+  FindGaps(*result_.map, options_.gap, &result_.gaps);
+  result_.decision = ChooseSteering(result_.gaps);
+  return result_;
+}
+
+}  // namespace squint::obstacles

@@ -1,0 +1,95 @@
+// End-to-end tests of the Avoider on ray-cast scenes: a box ahead makes the robot steer around
+// it; a wall of boxes makes it stop; options are checked.
+#include "squint/obstacles/avoider.hpp"
+
+#include <gtest/gtest.h>
+
+#include "avoid_scene.hpp"
+#include "squint/core/angles.hpp"
+#include "squint/core/error.hpp"
+
+namespace squint::obstacles {
+namespace {
+
+using testing::Box;
+using testing::Feature;
+using testing::ObstacleCamera;
+using testing::RenderBoxes;
+
+// Obstacle features along the vertical edges of a box's front face, ground features on the floor
+// in front of it.
+std::vector<ClassifiedFeature> BoxFeatures(const CameraModel& cam, const Box& b) {
+  std::vector<ClassifiedFeature> f;
+  for (double y : {b.y_right_m, b.y_left_m}) {
+    f.push_back(Feature(cam, {b.x_near_m, y, 0.5 * b.height_m}, FeatureClass::kObstacle));
+    f.push_back(Feature(cam, {b.x_near_m - 0.3, y, 0.0}, FeatureClass::kGround));
+  }
+  return f;
+}
+
+// The lateral distance of the floor point (x, y) from the ray at `steer_deg`.
+double Clearance(double x, double y, double steer_deg) {
+  const double a = DegToRad(steer_deg);
+  return std::abs(-std::sin(a) * x + std::cos(a) * y);
+}
+
+TEST(AvoidTest, BoxAheadIsAvoided) {
+  const CameraModel cam = ObstacleCamera();
+  // A box a little left of straight ahead: its front corners are at bearings 4.4° and 21.0°.
+  const Box box{1.3, 1.6, 0.1, 0.5, 0.3};
+  Avoider avoider(cam);
+  const AvoidResult& r = avoider.Process(RenderBoxes(cam, {box}), BoxFeatures(cam, box));
+  ASSERT_EQ(r.contacts.size(), 2u);
+  int occupied = 0;
+  for (const PolarSector& s : r.map->sectors) occupied += s.state == SectorState::kOccupied;
+  EXPECT_EQ(occupied, 2);
+  ASSERT_FALSE(r.decision.stop);
+  // The steering ray passes both true corners with at least the robot's half width plus margin.
+  const double half = avoider.Options().gap.robot_radius_m + avoider.Options().gap.margin_m;
+  EXPECT_LT(*r.decision.steer_deg, 0.0) << "turns right, away from the box";
+  EXPECT_GE(Clearance(1.3, 0.1, *r.decision.steer_deg), half);
+  EXPECT_GE(Clearance(1.3, 0.5, *r.decision.steer_deg), half);
+  // Deterministic: the same input gives the same output.
+  const double first = *r.decision.steer_deg;
+  const AvoidResult& again = avoider.Process(RenderBoxes(cam, {box}), BoxFeatures(cam, box));
+  EXPECT_DOUBLE_EQ(*again.decision.steer_deg, first);
+}
+
+TEST(AvoidTest, EmptyFloorSteersStraight) {
+  const CameraModel cam = ObstacleCamera();
+  Avoider avoider(cam);
+  const AvoidResult& r = avoider.Process(RenderBoxes(cam, {}), {});
+  ASSERT_FALSE(r.decision.stop);
+  EXPECT_NEAR(*r.decision.steer_deg, 0.0, 2.5) << "the centre of the symmetric field of view";
+}
+
+TEST(AvoidTest, WallOfBoxesStops) {
+  const CameraModel cam = ObstacleCamera();
+  // Boxes 0.3 m wide with 0.2 m gaps, 0.9 m ahead, across the whole view: no gap fits a 0.6 m
+  // robot.
+  std::vector<Box> boxes;
+  std::vector<ClassifiedFeature> f;
+  // Thin plates, so that the front corners are the silhouettes seen from any side.
+  for (double y = -1.2; y < 1.2; y += 0.5) {
+    const Box b{0.9, 0.92, y, y + 0.3, 0.4};
+    boxes.push_back(b);
+    for (auto& x : BoxFeatures(cam, b)) f.push_back(x);
+  }
+  Avoider avoider(cam);
+  const AvoidResult& r = avoider.Process(RenderBoxes(cam, boxes), f);
+  EXPECT_TRUE(r.decision.stop);
+  EXPECT_FALSE(r.decision.steer_deg.has_value());
+  EXPECT_GE(r.contacts.size(), 4u);
+}
+
+TEST(AvoidTest, InvalidOptionsOrCameraThrow) {
+  AvoidOptions o;
+  o.polar.sector_deg = 7.0;
+  EXPECT_THROW(Avoider(ObstacleCamera(), o), Error);
+  CameraModel no_intrinsics = ObstacleCamera();
+  no_intrinsics.fx = 0;
+  EXPECT_THROW(Avoider(no_intrinsics, {}), Error);
+}
+
+}  // namespace
+}  // namespace squint::obstacles
