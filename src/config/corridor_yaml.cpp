@@ -1,0 +1,239 @@
+// YAML (de)serialisation of corridor::CorridorOptions: the `--calib FILE` format.
+#include "squint/config/corridor_yaml.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "squint/core/error.hpp"
+#include "squint/io/atomic_output.hpp"
+
+namespace squint::config {
+namespace {
+
+using corridor::CorridorOptions;
+using corridor::DistanceCue;
+using corridor::HeadingCue;
+
+// Reads mapping keys, refusing unknown ones so that a typo is not silently ignored.
+class MapReader {
+ public:
+  MapReader(const YAML::Node& node, std::string path, const std::string& source)
+      : node_(node), path_(std::move(path)), source_(source) {
+    if (!node_.IsMap()) throw Error(source_ + ": '" + path_ + "' must be a mapping");
+  }
+  ~MapReader() = default;
+
+  template <typename T>
+  void Get(const std::string& key, T& value) {
+    seen_.insert(key);
+    const YAML::Node n = node_[key];
+    if (!n) return;
+    try {
+      value = n.as<T>();
+    } catch (const YAML::Exception&) {
+      throw Error(source_ + ": '" + Key(key) + "' has a value of the wrong type (line " +
+                  std::to_string(n.Mark().line + 1) + ")");
+    }
+  }
+  // A sub-mapping (or none when absent).
+  std::optional<YAML::Node> Child(const std::string& key) {
+    seen_.insert(key);
+    const YAML::Node n = node_[key];
+    if (!n) return std::nullopt;
+    return n;
+  }
+  std::string Key(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  void CheckUnknown() const {
+    for (const auto& kv : node_) {
+      const std::string key = kv.first.as<std::string>();
+      if (!seen_.count(key)) throw Error(source_ + ": unknown key '" + Key(key) + "'");
+    }
+  }
+
+ private:
+  YAML::Node node_;
+  std::string path_;
+  const std::string& source_;
+  std::set<std::string> seen_;
+};
+
+void ReadHeading(const YAML::Node& node, const std::string& source, corridor::HeadingOptions& h) {
+  MapReader r(node, "heading", source);
+  if (auto cues = r.Child("cues")) {
+    MapReader rc(*cues, "heading.cues", source);
+    for (int i = 0; i < corridor::kHeadingCueCount; ++i) {
+      const std::string name = corridor::CueName(static_cast<HeadingCue>(i));
+      if (auto c = rc.Child(name)) {
+        MapReader m(*c, "heading.cues." + name, source);
+        m.Get("enabled", h.cues[i].enabled);
+        m.Get("weight", h.cues[i].weight);
+        m.Get("scale", h.cues[i].scale);
+        m.Get("bias_deg", h.cues[i].bias_deg);
+        m.CheckUnknown();
+      }
+    }
+    rc.CheckUnknown();
+  }
+  r.Get("slice_width_px", h.slice_width_px);
+  r.Get("border_px", h.border_px);
+  r.Get("min_prominence", h.min_prominence);
+  r.Get("column_bits", h.column_bits);
+  r.Get("symmetry_half_width_px", h.symmetry_half_width_px);
+  r.Get("symmetry_min_half_width_px", h.symmetry_min_half_width_px);
+  r.Get("vanishing_bits", h.vanishing_bits);
+  r.Get("vanishing_row_margin_px", h.vanishing_row_margin_px);
+  r.Get("vanishing_max_outside_px", h.vanishing_max_outside_px);
+  r.Get("bright_rows_fraction", h.bright_rows_fraction);
+  r.Get("bright_min_separation", h.bright_min_separation);
+  r.Get("kmeans_iterations", h.kmeans_iterations);
+  r.Get("bright_max_fraction", h.bright_max_fraction);
+  r.Get("phase_min_gradient", h.phase_min_gradient);
+  r.Get("phase_max_deg", h.phase_max_deg);
+  r.Get("max_abs_heading_deg", h.max_abs_heading_deg);
+  r.Get("agreement_deg", h.agreement_deg);
+  r.Get("fallback_deg_per_column", h.fallback_deg_per_column);
+  r.CheckUnknown();
+}
+
+void ReadDistance(const YAML::Node& node, const std::string& source, corridor::DistanceOptions& d) {
+  MapReader r(node, "distance", source);
+  if (auto cues = r.Child("cues")) {
+    MapReader rc(*cues, "distance.cues", source);
+    for (int i = 0; i < corridor::kDistanceCueCount; ++i) {
+      const std::string name = corridor::CueName(static_cast<DistanceCue>(i));
+      if (auto c = rc.Child(name)) {
+        MapReader m(*c, "distance.cues." + name, source);
+        bool enabled = d.enabled[i];
+        m.Get("enabled", enabled);
+        d.enabled[i] = enabled;
+        m.Get("weight", d.weights[i]);
+        m.CheckUnknown();
+      }
+    }
+    rc.CheckUnknown();
+  }
+  r.Get("ttc_scale", d.ttc_scale);
+  r.Get("ttc_bias_m", d.ttc_bias_m);
+  r.Get("speed_mps", d.speed_mps);
+  r.Get("alpha2", d.alpha2);
+  r.Get("beta2", d.beta2);
+  r.Get("alpha3", d.alpha3);
+  r.Get("image_bits", d.image_bits);
+  r.Get("min_m", d.min_m);
+  r.Get("max_m", d.max_m);
+  r.CheckUnknown();
+}
+
+}  // namespace
+
+CorridorOptions CorridorOptionsFromYaml(const std::string& text, const std::string& source,
+                                        const CorridorOptions& base) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw Error(source + ": not valid YAML (line " + std::to_string(e.mark.line + 1) + "): " + e.msg);
+  }
+  CorridorOptions options = base;
+  if (root.IsNull()) return options;
+  MapReader r(root, "", source);
+  if (auto glance = r.Child("glance")) {
+    MapReader g(*glance, "glance", source);
+    std::string sampling = options.sampling == corridor::GlanceSampling::kPoint ? "point" : "area";
+    g.Get("sampling", sampling);
+    if (sampling == "point") options.sampling = corridor::GlanceSampling::kPoint;
+    else if (sampling == "area") options.sampling = corridor::GlanceSampling::kArea;
+    else throw Error(source + ": 'glance.sampling' must be point or area, not '" + sampling + "'");
+    g.CheckUnknown();
+  }
+  if (auto h = r.Child("heading")) ReadHeading(*h, source, options.heading);
+  if (auto d = r.Child("distance")) ReadDistance(*d, source, options.distance);
+  if (auto gate = r.Child("gate")) {
+    MapReader g(*gate, "gate", source);
+    g.Get("enabled", options.gate.enabled);
+    g.Get("threshold", options.gate.threshold);
+    g.CheckUnknown();
+  }
+  r.CheckUnknown();
+  const std::string problem = options.Validate();
+  if (!problem.empty()) throw Error(source + ": " + problem);
+  return options;
+}
+
+CorridorOptions LoadCorridorOptions(const std::filesystem::path& path, const CorridorOptions& base) {
+  std::ifstream in(path);
+  if (!in) throw Error(path.string() + ": cannot open corridor options file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return CorridorOptionsFromYaml(ss.str(), path.string(), base);
+}
+
+std::string CorridorOptionsToYaml(const CorridorOptions& o) {
+  YAML::Emitter e;
+  e.SetDoublePrecision(17);
+  e << YAML::Comment("squint corridor options (include/squint/config/corridor_yaml.hpp)");
+  e << YAML::BeginMap;
+  e << YAML::Key << "glance" << YAML::Value << YAML::BeginMap << YAML::Key << "sampling" << YAML::Value
+    << (o.sampling == corridor::GlanceSampling::kPoint ? "point" : "area") << YAML::EndMap;
+  const auto& h = o.heading;
+  e << YAML::Key << "heading" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "cues" << YAML::Value << YAML::BeginMap;
+  for (int i = 0; i < corridor::kHeadingCueCount; ++i) {
+    e << YAML::Key << corridor::CueName(static_cast<HeadingCue>(i)) << YAML::Value << YAML::Flow << YAML::BeginMap
+      << YAML::Key << "enabled" << YAML::Value << h.cues[i].enabled << YAML::Key << "weight" << YAML::Value
+      << h.cues[i].weight << YAML::Key << "scale" << YAML::Value << h.cues[i].scale << YAML::Key << "bias_deg"
+      << YAML::Value << h.cues[i].bias_deg << YAML::EndMap;
+  }
+  e << YAML::EndMap;
+  e << YAML::Key << "slice_width_px" << YAML::Value << h.slice_width_px;
+  e << YAML::Key << "border_px" << YAML::Value << h.border_px;
+  e << YAML::Key << "min_prominence" << YAML::Value << h.min_prominence;
+  e << YAML::Key << "column_bits" << YAML::Value << h.column_bits;
+  e << YAML::Key << "symmetry_half_width_px" << YAML::Value << h.symmetry_half_width_px;
+  e << YAML::Key << "symmetry_min_half_width_px" << YAML::Value << h.symmetry_min_half_width_px;
+  e << YAML::Key << "vanishing_bits" << YAML::Value << h.vanishing_bits;
+  e << YAML::Key << "vanishing_row_margin_px" << YAML::Value << h.vanishing_row_margin_px;
+  e << YAML::Key << "vanishing_max_outside_px" << YAML::Value << h.vanishing_max_outside_px;
+  e << YAML::Key << "bright_rows_fraction" << YAML::Value << h.bright_rows_fraction;
+  e << YAML::Key << "bright_min_separation" << YAML::Value << h.bright_min_separation;
+  e << YAML::Key << "kmeans_iterations" << YAML::Value << h.kmeans_iterations;
+  e << YAML::Key << "bright_max_fraction" << YAML::Value << h.bright_max_fraction;
+  e << YAML::Key << "phase_min_gradient" << YAML::Value << h.phase_min_gradient;
+  e << YAML::Key << "phase_max_deg" << YAML::Value << h.phase_max_deg;
+  e << YAML::Key << "max_abs_heading_deg" << YAML::Value << h.max_abs_heading_deg;
+  e << YAML::Key << "agreement_deg" << YAML::Value << h.agreement_deg;
+  e << YAML::Key << "fallback_deg_per_column" << YAML::Value << h.fallback_deg_per_column;
+  e << YAML::EndMap;
+  const auto& d = o.distance;
+  e << YAML::Key << "distance" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "cues" << YAML::Value << YAML::BeginMap;
+  for (int i = 0; i < corridor::kDistanceCueCount; ++i) {
+    e << YAML::Key << corridor::CueName(static_cast<DistanceCue>(i)) << YAML::Value << YAML::Flow << YAML::BeginMap
+      << YAML::Key << "enabled" << YAML::Value << static_cast<bool>(d.enabled[i]) << YAML::Key << "weight"
+      << YAML::Value << d.weights[i] << YAML::EndMap;
+  }
+  e << YAML::EndMap;
+  e << YAML::Key << "ttc_scale" << YAML::Value << d.ttc_scale;
+  e << YAML::Key << "ttc_bias_m" << YAML::Value << d.ttc_bias_m;
+  e << YAML::Key << "speed_mps" << YAML::Value << d.speed_mps;
+  e << YAML::Key << "alpha2" << YAML::Value << d.alpha2;
+  e << YAML::Key << "beta2" << YAML::Value << d.beta2;
+  e << YAML::Key << "alpha3" << YAML::Value << d.alpha3;
+  e << YAML::Key << "image_bits" << YAML::Value << d.image_bits;
+  e << YAML::Key << "min_m" << YAML::Value << d.min_m;
+  e << YAML::Key << "max_m" << YAML::Value << d.max_m;
+  e << YAML::EndMap;
+  e << YAML::Key << "gate" << YAML::Value << YAML::BeginMap << YAML::Key << "enabled" << YAML::Value
+    << o.gate.enabled << YAML::Key << "threshold" << YAML::Value << o.gate.threshold << YAML::EndMap;
+  e << YAML::EndMap;
+  return std::string(e.c_str()) + "\n";
+}
+
+void SaveCorridorOptions(const std::filesystem::path& path, const CorridorOptions& options) {
+  io::WriteFileAtomically(path, CorridorOptionsToYaml(options));
+}
+
+}  // namespace squint::config
