@@ -19,6 +19,20 @@ std::optional<double> Discrepancy(const CameraModel& camera, const Pose2& world_
   return (*b - *a).norm();
 }
 
+std::optional<double> SignedDiscrepancy(const CameraModel& camera, const Pose2& world_T_previous,
+                                        const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
+                                        const Eigen::Vector2d& current_pixel) {
+  const auto a = FloorPointWorld(camera, world_T_previous, previous_pixel);
+  const auto b = FloorPointWorld(camera, world_T_current, current_pixel);
+  if (!a || !b) return std::nullopt;
+  // The optical centre lies above the robot's rotation centre (SEQUENCE_FORMAT.md).
+  const Eigen::Vector2d camera_motion = world_T_current.Apply(camera.RobotCameraCentre().head<2>()) -
+                                        world_T_previous.Apply(camera.RobotCameraCentre().head<2>());
+  const double n = camera_motion.norm();
+  if (n < 1e-12) return std::nullopt;
+  return -(*b - *a).dot(camera_motion) / n;
+}
+
 bool AboveHorizon(const CameraModel& camera, const Eigen::Vector2d& pixel) {
   return camera.PixelRayRobot(pixel).z() >= -1e-9;
 }

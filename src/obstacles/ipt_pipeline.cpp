@@ -175,6 +175,7 @@ void IptPipeline::Process(const cv::Mat& previous_image, const cv::Mat& current_
       f.zone = kHorizonZone;
     } else {
       f.discrepancy_m = Discrepancy(m.camera, *previous_odom, f.previous_pixel, *current_odom, f.pixel);
+      f.signed_discrepancy_m = SignedDiscrepancy(m.camera, *previous_odom, f.previous_pixel, *current_odom, f.pixel);
       // A feature below the horizon now but above it before stands above the floor as well.
       f.zone = f.discrepancy_m ? std::min(2, m.zones.ZoneOfRow(f.pixel.y())) : kHorizonZone;
     }

@@ -22,6 +22,16 @@ std::optional<double> Discrepancy(const CameraModel& camera, const Pose2& world_
                                   const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
                                   const Eigen::Vector2d& current_pixel);
 
+// Eq. 4 with a sign: the floor point of a feature moves by dF = (1 - s)·dC when the camera centre
+// moves by dC, with s = h / (h - z) for a scene point at height z. Points above the floor (z > 0)
+// move against the camera (s > 1), floor points stay, and mirror images seen in a specular floor
+// (virtual points below it, z < 0) move with it. Returns -dF·dC/|dC| (metres): positive for
+// points above the floor, about zero on it, negative for mirror images; |value| <= D. None when
+// either pixel lies at or above the horizon or the camera did not move.
+std::optional<double> SignedDiscrepancy(const CameraModel& camera, const Pose2& world_T_previous,
+                                        const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
+                                        const Eigen::Vector2d& current_pixel);
+
 // Eq. 10 generalised: true when the pixel's ray does not point below the horizon (λ would be
 // negative), so the feature is an obstacle without D. The ray is undistorted by the camera model.
 bool AboveHorizon(const CameraModel& camera, const Eigen::Vector2d& pixel);

@@ -44,6 +44,7 @@ struct MeasuredFeature {
   Eigen::Vector2d previous_pixel;  // earlier frame, raw pixel
   int zone = 0;                    // 0–3 (3 = above the horizon)
   std::optional<double> discrepancy_m;  // none in zone 3
+  std::optional<double> signed_discrepancy_m;  // SignedDiscrepancy(); none in zone 3
   std::optional<FeatureClass> cls;      // none when left unclassified by the refinement
 };
 
