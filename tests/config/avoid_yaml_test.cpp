@@ -1,0 +1,76 @@
+// Tests of the avoidance options YAML: round trip, the shared file with `ipt:`, named errors.
+#include "squint/config/avoid_yaml.hpp"
+
+#include <gtest/gtest.h>
+
+#include "squint/core/error.hpp"
+
+namespace squint::config {
+namespace {
+
+std::string ErrorOf(const std::string& text) {
+  try {
+    AvoidOptionsFromYaml(text, "opts.yaml");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return {};
+}
+
+TEST(AvoidYamlTest, RoundTripKeepsEveryMember) {
+  obstacles::AvoidOptions o;
+  o.edges.sigma_px = 1.7;
+  o.edges.low_threshold = 12.5;
+  o.edges.high_threshold = 33.25;
+  o.outline.window_width_px = 7;
+  o.outline.window_height_px = 21;
+  o.outline.ground_stop_radius_px = 3;
+  o.outline.max_gap_rows = 2;
+  o.polar.roi_radius_m = 2.25;
+  o.polar.sector_deg = 4.5;
+  o.polar.min_contacts = 3;
+  o.gap.robot_radius_m = 0.31;
+  o.gap.margin_m = 0.07;
+  const obstacles::AvoidOptions back = AvoidOptionsFromYaml(AvoidOptionsToYaml(o), "round-trip");
+  EXPECT_EQ(back.edges.sigma_px, o.edges.sigma_px);
+  EXPECT_EQ(back.edges.low_threshold, o.edges.low_threshold);
+  EXPECT_EQ(back.edges.high_threshold, o.edges.high_threshold);
+  EXPECT_EQ(back.outline.window_width_px, o.outline.window_width_px);
+  EXPECT_EQ(back.outline.window_height_px, o.outline.window_height_px);
+  EXPECT_EQ(back.outline.ground_stop_radius_px, o.outline.ground_stop_radius_px);
+  EXPECT_EQ(back.outline.max_gap_rows, o.outline.max_gap_rows);
+  EXPECT_EQ(back.polar.roi_radius_m, o.polar.roi_radius_m);
+  EXPECT_EQ(back.polar.sector_deg, o.polar.sector_deg);
+  EXPECT_EQ(back.polar.min_contacts, o.polar.min_contacts);
+  EXPECT_EQ(back.gap.robot_radius_m, o.gap.robot_radius_m);
+  EXPECT_EQ(back.gap.margin_m, o.gap.margin_m);
+}
+
+TEST(AvoidYamlTest, AbsentKeysKeepDefaultsAndTheIptSectionIsIgnored) {
+  const auto o = AvoidOptionsFromYaml("ipt:\n  whatever: 1\navoid:\n  polar: {roi_radius_m: 2.0}\n", "f");
+  EXPECT_EQ(o.polar.roi_radius_m, 2.0);
+  EXPECT_EQ(o.polar.sector_deg, obstacles::PolarMapOptions{}.sector_deg);
+  EXPECT_EQ(o.edges.low_threshold, 40.0);
+  EXPECT_EQ(o.edges.high_threshold, 50.0);
+}
+
+TEST(AvoidYamlTest, TheSharedFileFeedsBothReaders) {
+  const auto both = AvoidFileOptionsFromYaml(
+      "ipt:\n  min_translation_m: 0.01\navoid:\n  gap: {margin_m: 0.1}\n", "f.yaml");
+  EXPECT_EQ(both.ipt.min_translation_m, 0.01);
+  EXPECT_EQ(both.avoid.gap.margin_m, 0.1);
+}
+
+TEST(AvoidYamlTest, ErrorsNameTheFileAndKey) {
+  EXPECT_NE(ErrorOf("avoid:\n  polar: {radius: 2}\n").find("opts.yaml: `avoid.polar.radius` is not a known option"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("avoid:\n  edges: {low_threshold: abc}\n").find("`avoid.edges.low_threshold` must be a number"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("avoid:\n  edges: {low_threshold: 60}\n").find("high_threshold"), std::string::npos);
+  EXPECT_NE(ErrorOf("avod:\n  edges: {}\n").find("`avod` is not a known section"), std::string::npos);
+  EXPECT_NE(ErrorOf("avoid: [1, 2\n").find("not valid YAML"), std::string::npos);
+  EXPECT_NE(ErrorOf("avoid:\n  polar: {sector_deg: 7}\n").find("sector_deg"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace squint::config
