@@ -1,0 +1,170 @@
+// Corridor perception against ground truth: runs the Perceiver (and the Kalman filter) over
+// sequences, fits the calibration of §5.1–5.2 from them, and writes the paper's evaluation
+// (Figs. 8, 9, 10 and 13) as a JSON report with PNG plots.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "squint/core/ground_truth.hpp"
+#include "squint/corridor/calibration.hpp"
+#include "squint/corridor/kalman.hpp"
+#include "squint/corridor/measure.hpp"
+#include "squint/corridor/options.hpp"
+#include "squint/io/sequence.hpp"
+
+namespace squint::eval {
+
+// What `squint calibrate` learnt beyond the perception options: per-cue error spreads (the
+// Kalman filter's measurement noise), the reliable heading ranges, the fit statistics, and the
+// sequences it was fitted on. Stored as the second YAML document of the calibration file (the
+// first is corridor::CorridorOptions, read by config::LoadCorridorOptions).
+struct HeadingCueCalibration {
+  bool fitted = false;
+  double scale = 1.0;
+  double bias_deg = 0.0;
+  double error_std_deg = 8.0;  // σ of the calibrated error (fusion weight = 1/σ²)
+  double rmse_deg = 0.0;
+  double inlier_fraction = 0.0;
+  double reliable_min_deg = -90.0;
+  double reliable_max_deg = 90.0;
+  std::size_t samples = 0;
+};
+
+struct DistanceCueCalibration {
+  bool fitted = false;
+  // ttc: scale (the TTC scale check); jeffrey: alpha2, beta2; entropy: alpha3 (in alpha).
+  double scale = 1.0;
+  double alpha = 0.0;
+  double beta = 0.0;
+  double rmse_m = 0.0;
+  double error_std_m = 0.0;
+  // Kalman measurement noise σ(d̂) = sigma0_m + sigma_slope · d̂.
+  double sigma0_m = 1.0;
+  double sigma_slope = 0.2;
+  double inlier_fraction = 0.0;
+  std::size_t samples = 0;
+};
+
+struct CalibrationRecord {
+  std::vector<std::string> fitted_on;  // sequence folder names (last path component)
+  bool intrinsics = true;              // false: heading scales are the paper's α (deg per column)
+  std::array<HeadingCueCalibration, corridor::kHeadingCueCount> heading{};
+  std::array<DistanceCueCalibration, corridor::kDistanceCueCount> distance{};
+};
+
+// A calibration file: the perception options and the record.
+struct CorridorCalibrationFile {
+  corridor::CorridorOptions options;
+  CalibrationRecord record;
+};
+
+// Text of the whole file (a commented header, the options document, `---`, the record).
+std::string CalibrationFileToYaml(const CorridorCalibrationFile& file);
+// Parses both documents; a file with only the options document gives a default record.
+// Throws squint::Error naming `source` and the key on bad input.
+CorridorCalibrationFile CalibrationFileFromYaml(const std::string& text, const std::string& source);
+CorridorCalibrationFile LoadCalibrationFile(const std::filesystem::path& path);
+void SaveCalibrationFile(const std::filesystem::path& path, const CorridorCalibrationFile& file);
+
+// ---- Running perception over a sequence ---------------------------------------------------
+
+struct CorridorFrame {
+  std::size_t index = 0;
+  double stamp = 0.0;
+  GroundTruth gt;
+  std::optional<double> travelled_m;  // odometry distance since the previous frame
+  bool moving_forward = false;         // odometry says the robot drove forward (not turning in place)
+  // Pass without the gate (every frame processed):
+  std::array<std::optional<double>, corridor::kHeadingCueCount> heading_camera_deg{};  // uncalibrated
+  std::array<std::optional<double>, corridor::kHeadingCueCount> heading_deg{};         // calibrated
+  // Raw distance quantities: ttc τ·travelled (m), Jeffrey J, entropy ΔH = H(t−1) − H(t).
+  std::array<std::optional<double>, corridor::kDistanceCueCount> dist_raw{};
+  std::array<std::optional<double>, corridor::kDistanceCueCount> dist_m{};
+  std::optional<double> fused_heading_deg;  // the Perceiver's weighted average
+  std::optional<double> fused_dist_m;
+  std::optional<double> kalman_heading_deg;  // the Kalman filter over the cues, odometry as process
+  std::optional<double> kalman_dist_m;
+  // Pass with the rapid-perception gate:
+  bool gated_processed = true;
+  std::optional<double> gate_change;
+  std::optional<double> gated_heading_deg;  // fused heading on processed frames only
+};
+
+struct CorridorRun {
+  std::string name;
+  std::vector<CorridorFrame> frames;
+};
+
+struct CorridorRunOptions {
+  corridor::CorridorOptions perception;
+  corridor::CorridorKalmanOptions kalman;
+  // Measurement noise of the Kalman filter per cue (from the calibration record).
+  CalibrationRecord record;
+  // Also run a second pass with the gate enabled (for the rapid-perception figures).
+  bool gated_pass = true;
+  // A frame counts as driving forward when odometry moved it at least this far and turned it
+  // less than max_turn_deg.
+  double min_forward_m = 1e-3;
+  double max_turn_deg = 0.5;
+};
+
+// Runs both passes over every frame. `progress(i)` is called after each frame when given.
+CorridorRun RunCorridorSequence(const io::Sequence& sequence, const CorridorRunOptions& options,
+                                const std::function<void(std::size_t)>& progress = {});
+
+// ---- Calibration ------------------------------------------------------------------------
+
+struct CalibrateOptions {
+  bool fit_heading = true;
+  bool fit_distance = true;
+  corridor::HeadingFitOptions heading;
+  corridor::DistanceFitOptions distance;
+  // Distance at which a distance cue's σ(d̂) sets its scalar fusion weight 1/σ² (the middle of
+  // the range the robot must judge: stopping at the end).
+  double distance_weight_at_m = 5.0;
+  std::string Validate() const;
+};
+
+// Fits the calibration from runs made with identity scales (heading_camera_deg and dist_raw
+// are used). `base` supplies everything not fitted. Throws squint::Error when the runs lack the
+// ground truth a requested fit needs, or a fit is singular.
+CorridorCalibrationFile FitCorridorCalibration(const std::vector<CorridorRun>& runs,
+                                               const std::vector<std::string>& sequence_names,
+                                               const corridor::CorridorOptions& base,
+                                               const CalibrateOptions& options);
+
+// Checks before running: every sequence has the ground-truth columns the fits need
+// (gt_heading_deg for heading; gt_dist_end_m and odometry or a frame rate for distance).
+// Throws squint::Error naming the sequence's frames.csv.
+void CheckCalibrationInputs(const io::Sequence& sequence, bool need_heading, bool need_distance);
+
+// ---- Evaluation report ------------------------------------------------------------------
+
+struct CorridorEvalOptions {
+  double heading_bin_deg = 1.0;
+  double dist_bin_m = 1.0;
+  double sign_min_abs_deg = 5.0;  // the sign target counts frames with |truth| ≥ this
+  // Distance ranges reported separately (the targets' 0.3–5 m and 5–15 m).
+  std::vector<std::pair<double, double>> dist_ranges = {{0.3, 5.0}, {5.0, 15.0}, {0.3, 15.0}};
+  std::size_t gate_block = 50;       // frames per bar of Fig. 13 (middle)
+  double entropy_hist_max = 0.05;    // histogram range of normalised entropy differences
+  int entropy_hist_bins = 50;
+  bool plots = true;
+  int plot_width_px = 640;
+  int plot_height_px = 480;
+  std::string Validate() const;
+};
+
+// Computes the report and writes DIR/report.json and DIR/*.png (atomically, as one folder).
+// `warnings` are copied into the report. Returns the report JSON text.
+std::string WriteCorridorReport(const std::vector<CorridorRun>& runs, const std::filesystem::path& out_dir,
+                                const CorridorEvalOptions& options, const std::vector<std::string>& warnings,
+                                const std::string& calib_source);
+
+}  // namespace squint::eval
