@@ -16,10 +16,10 @@
 namespace squint::sim {
 
 struct RenderOptions {
-  int supersample = 1;          // n: n×n samples per pixel, box-averaged in linear radiance
-  double exposure = 1.0;        // multiplies radiance before the camera's response curve
+  int supersample = 2;          // n: n×n samples per pixel, box-averaged in linear radiance
+  double exposure = 0.55;       // multiplies radiance before the camera's response curve
   double gamma = 2.2;           // response: grey = 255 * (exposure * radiance)^(1/gamma), clipped
-  double noise_sigma = 0.0;     // Gaussian sensor noise, grey levels (after the response)
+  double noise_sigma = 1.0;     // Gaussian sensor noise, grey levels (after the response)
   std::uint64_t seed = 1;       // noise seed; noise depends only on (seed, frame_id, pixel)
   int angle_bins_per_column = 4;  // horizontal visibility table density (speed vs. exactness)
   std::string Validate() const;   // empty when valid

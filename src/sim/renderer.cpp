@@ -1,0 +1,731 @@
+// The ray-cast renderer. Every ray leaves the camera's optical centre, so the horizontal
+// visibility of the walls depends on the ray's bearing only: per frame a table over bearings
+// (a few entries per image column) records the nearest wall at each bearing, and each sample
+// then intersects that wall (and its neighbour's) analytically, so the geometry stays exact.
+// Obstacles are listed per bearing bin; floor and ceiling are planes. Lighting is precomputed
+// into light maps (floor grid, per-wall tables) from the ceiling lights with 2-D visibility.
+#include "squint/sim/renderer.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <sstream>
+
+#include "squint/core/angles.hpp"
+#include "squint/core/error.hpp"
+#include "textures.hpp"
+
+namespace squint::sim {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kCell = 0.1;          // light-map resolution, metres
+constexpr double kLightRadius = 10.0;  // lights further away than this are ignored
+constexpr double kCeilingBounce = 0.25;
+constexpr double kLightPanelRadiance = 3.0;  // saturates at default exposure: lights are the brightest
+constexpr double kOffPanelRadiance = 0.10;
+constexpr int kMaxBinObstacles = 12;
+constexpr int kGammaLutSize = 4096;
+constexpr double kGammaLutMax = 4.0;
+
+std::uint64_t SplitMix(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+struct Sample {
+  double ca = 1, sa = 0;       // horizontal unit direction, robot frame
+  double k = 0;                // dz per horizontal metre
+  double range_per_h = 1;      // 3-D distance per horizontal metre
+  double r_floor = kInf;       // horizontal distance to the floor (camera height / -k)
+  int bin = 0;
+};
+
+enum class Surf : std::uint8_t { kNone, kFloor, kCeiling, kWall, kObsSide, kObsTop, kObsBottom, kInside };
+
+struct Hit {
+  Surf surf = Surf::kNone;
+  int id = -1;
+  double r = kInf;  // horizontal distance from the ray's origin
+  double face_u = 0, face_v = 0;
+  int face = 0;     // obstacle face index (for shading variety)
+};
+
+}  // namespace
+
+std::string RenderOptions::Validate() const {
+  std::ostringstream why;
+  if (supersample < 1 || supersample > 16) why << "supersample must lie in [1, 16]; ";
+  if (!(exposure > 0) || !std::isfinite(exposure)) why << "exposure must be positive; ";
+  if (!(gamma > 0) || !std::isfinite(gamma)) why << "gamma must be positive; ";
+  if (!(noise_sigma >= 0) || !std::isfinite(noise_sigma)) why << "noise_sigma must not be negative; ";
+  if (angle_bins_per_column < 1 || angle_bins_per_column > 64) why << "angle_bins_per_column must lie in [1, 64]; ";
+  std::string s = why.str();
+  if (s.size() >= 2) s.resize(s.size() - 2);
+  return s;
+}
+
+struct Renderer::Impl {
+  World world;
+  CameraModel camera;
+  RenderOptions options;
+  int n = 1;  // supersampling factor
+  std::vector<Sample> samples;  // pixel-major: pixel (u, v) owns n*n consecutive samples
+  std::vector<Sample> centres;  // the pixels' central rays (label and range)
+  // Bearing table.
+  int bins = 0;
+  double a_min = 0, d_a = 1;
+  std::vector<double> edge_c, edge_s;  // robot-frame direction of each bin edge
+  std::vector<int> edge_wall;
+  std::vector<double> edge_t;
+  std::vector<int> bin_count;
+  std::vector<int> bin_obs;
+  std::vector<double> obs_ox, obs_oy, obs_c, obs_s;  // per-frame ray origin in each obstacle's frame
+  // Materials.
+  std::vector<detail::TextureTable> tex;
+  // Floor grid.
+  double gx0 = 0, gy0 = 0;
+  int gnx = 0, gny = 0;
+  std::vector<float> floor_irr;
+  std::vector<std::int16_t> floor_mat, ceil_mat, flat_id;
+  std::vector<std::int32_t> light_id;
+  // Walls.
+  struct WallLight {
+    std::size_t offset = 0;
+    int nu = 0, nz = 0;
+  };
+  std::vector<WallLight> wall_light;
+  std::vector<float> wall_irr;
+  std::vector<int> decal_begin, decal_end;  // per wall, into `decals`
+  std::vector<Decal> decals;
+  bool has_mirrors = false;
+  // Obstacles.
+  std::vector<float> obs_top_irr, obs_side_irr;
+  bool uniform_ceiling = true;
+  double ceiling_h = 2.8;
+  // Output.
+  std::vector<std::uint8_t> gamma_lut;
+  std::vector<float> normal_table;
+  // Per frame.
+  double px = 0, py = 0, cyaw = 1, syaw = 0, cam_h = 0, frame_ceiling = 2.8;
+
+  // --- construction -------------------------------------------------------------------------
+  void Init(const World& w, const CameraModel& cam, const RenderOptions& opt) {
+    world = w;
+    camera = cam;
+    options = opt;
+    n = opt.supersample;
+    const std::string why = opt.Validate();
+    if (!why.empty()) throw Error("render options: " + why);
+    const std::string cam_why = cam.Validate();
+    if (!cam_why.empty()) throw Error("renderer camera: " + cam_why);
+    if (cam.height_m <= 0) throw Error("renderer camera: height_m must be positive");
+
+    // Rays.
+    auto make = [&](double u, double v) {
+      const Eigen::Vector3d d = cam.PixelRayRobot({u, v});
+      Sample s;
+      double h = std::hypot(d.x(), d.y());
+      if (h < 1e-9) h = 1e-9;
+      s.ca = d.x() / h;
+      s.sa = d.y() / h;
+      s.k = d.z() / h;
+      s.range_per_h = 1.0 / h;  // |d| = 1
+      s.r_floor = s.k < 0 ? cam.height_m / -s.k : kInf;
+      return s;
+    };
+    samples.clear();
+    for (int v = 0; v < cam.height; ++v)
+      for (int u = 0; u < cam.width; ++u)
+        for (int j = 0; j < n; ++j)
+          for (int i = 0; i < n; ++i) samples.push_back(make(u + (i + 0.5) / n - 0.5, v + (j + 0.5) / n - 0.5));
+    centres.clear();
+    if (n > 1)
+      for (int v = 0; v < cam.height; ++v)
+        for (int u = 0; u < cam.width; ++u) centres.push_back(make(u, v));
+    double lo = kInf, hi = -kInf;
+    for (const auto* set : {&samples, &centres})
+      for (const Sample& s : *set) {
+        const double a = std::atan2(s.sa, s.ca);
+        lo = std::min(lo, a), hi = std::max(hi, a);
+      }
+    bins = std::max(4, cam.width * n * opt.angle_bins_per_column);
+    const double pad = 1e-6;
+    a_min = lo - pad;
+    d_a = (hi - lo + 2 * pad) / bins;
+    auto bin_of = [&](Sample& s) {
+      s.bin = std::clamp(static_cast<int>((std::atan2(s.sa, s.ca) - a_min) / d_a), 0, bins - 1);
+    };
+    for (Sample& s : samples) bin_of(s);
+    for (Sample& s : centres) bin_of(s);
+    edge_c.resize(bins + 1);
+    edge_s.resize(bins + 1);
+    for (int e = 0; e <= bins; ++e) {
+      edge_c[e] = std::cos(a_min + e * d_a);
+      edge_s[e] = std::sin(a_min + e * d_a);
+    }
+    edge_wall.assign(bins + 1, -1);
+    edge_t.assign(bins + 1, kInf);
+    bin_count.assign(bins, 0);
+    bin_obs.assign(static_cast<std::size_t>(bins) * kMaxBinObstacles, 0);
+    obs_ox.assign(world.obstacles.size(), 0);
+    obs_oy = obs_c = obs_s = obs_ox;
+
+    for (std::size_t i = 0; i < world.materials.size(); ++i)
+      tex.push_back(detail::MakeTexture(world.materials[i], static_cast<std::uint32_t>(i + 1)));
+
+    uniform_ceiling = true;
+    ceiling_h = world.corridors.front().height_m;
+    for (const Corridor& c : world.corridors) uniform_ceiling = uniform_ceiling && c.height_m == ceiling_h;
+
+    BuildLightMaps();
+
+    // Decals grouped by wall.
+    decals = world.decals;
+    std::stable_sort(decals.begin(), decals.end(), [](const Decal& a, const Decal& b) { return a.wall < b.wall; });
+    decal_begin.assign(world.walls.size(), 0);
+    decal_end.assign(world.walls.size(), 0);
+    for (std::size_t i = 0; i < decals.size(); ++i) {
+      if (decal_end[decals[i].wall] == 0) decal_begin[decals[i].wall] = static_cast<int>(i);
+      decal_end[decals[i].wall] = static_cast<int>(i) + 1;
+    }
+    for (const WallSegment& ws : world.walls) has_mirrors = has_mirrors || world.materials[ws.material].mirror > 0;
+    for (const Decal& d : decals) has_mirrors = has_mirrors || world.materials[d.material].mirror > 0;
+
+    gamma_lut.resize(kGammaLutSize);
+    for (int i = 0; i < kGammaLutSize; ++i) {
+      const double l = (i + 0.5) * kGammaLutMax / kGammaLutSize;
+      gamma_lut[i] = static_cast<std::uint8_t>(std::lround(255.0 * std::pow(std::min(1.0, l), 1.0 / opt.gamma)));
+    }
+    std::mt19937_64 rng(12345);
+    std::normal_distribution<float> g(0.0f, 1.0f);
+    normal_table.resize(65536);
+    for (float& x : normal_table) x = g(rng);
+  }
+
+  // Irradiance at a point with a given unit normal from every visible light (2-D visibility).
+  double Irradiance(const Eigen::Vector3d& p, const Eigen::Vector3d& normal) const {
+    double e = world.ambient;
+    for (const Light& l : world.lights) {
+      if (!l.on) continue;
+      const Eigen::Vector2d d2 = p.head<2>() - l.centre;
+      if (d2.squaredNorm() > kLightRadius * kLightRadius) continue;
+      const Eigen::Vector3d v(l.centre.x() - p.x(), l.centre.y() - p.y(), l.z_m - p.z());
+      const double dist2 = v.squaredNorm();
+      if (dist2 < 1e-6) continue;
+      const double dist = std::sqrt(dist2);
+      const double cos_e = v.z() / dist;
+      const double cos_r = v.dot(normal) / dist;
+      if (cos_e <= 0 || cos_r <= 0) continue;
+      const double hd = d2.norm();
+      if (hd > 1e-6) {
+        const auto hit = world.CastWalls(l.centre, d2 / hd);  // from the light towards the point
+        if (hit && hit->first < hd - 2e-3) continue;
+      }
+      e += l.intensity * l.z_m * l.z_m * cos_e * cos_r / dist2;
+    }
+    return e;
+  }
+
+  void BuildLightMaps() {
+    const Box2 b = world.Bounds();
+    gx0 = b.x0;
+    gy0 = b.y0;
+    gnx = std::max(1, static_cast<int>(std::ceil((b.x1 - b.x0) / kCell)));
+    gny = std::max(1, static_cast<int>(std::ceil((b.y1 - b.y0) / kCell)));
+    const std::size_t cells = static_cast<std::size_t>(gnx) * gny;
+    floor_irr.assign(cells, static_cast<float>(world.ambient));
+    floor_mat.assign(cells, 0);
+    ceil_mat.assign(cells, 0);
+    flat_id.assign(cells, -1);
+    light_id.assign(cells, -1);
+    for (int j = 0; j < gny; ++j)
+      for (int i = 0; i < gnx; ++i) {
+        const Eigen::Vector2d c(gx0 + (i + 0.5) * kCell, gy0 + (j + 0.5) * kCell);
+        const std::size_t idx = static_cast<std::size_t>(j) * gnx + i;
+        // Materials: the first corridor containing the cell (or nearest by margin).
+        int owner = -1;
+        for (std::size_t k = 0; k < world.corridors.size() && owner < 0; ++k)
+          if (world.corridors[k].rect.Contains(c, kCell)) owner = static_cast<int>(k);
+        if (owner < 0) owner = 0;
+        floor_mat[idx] = static_cast<std::int16_t>(world.corridors[owner].floor_material);
+        ceil_mat[idx] = static_cast<std::int16_t>(world.corridors[owner].ceiling_material);
+        if (!world.IsFree(c)) continue;
+        floor_irr[idx] = static_cast<float>(Irradiance({c.x(), c.y(), 0.0}, {0, 0, 1}));
+      }
+    // Light panels and flat items into the grid (cells they overlap).
+    auto mark = [&](double x0, double y0, double x1, double y1, auto&& fn) {
+      const int i0 = std::max(0, static_cast<int>(std::floor((x0 - gx0) / kCell)));
+      const int i1 = std::min(gnx - 1, static_cast<int>(std::floor((x1 - gx0) / kCell)));
+      const int j0 = std::max(0, static_cast<int>(std::floor((y0 - gy0) / kCell)));
+      const int j1 = std::min(gny - 1, static_cast<int>(std::floor((y1 - gy0) / kCell)));
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) fn(static_cast<std::size_t>(j) * gnx + i);
+    };
+    for (std::size_t k = 0; k < world.lights.size(); ++k) {
+      const Light& l = world.lights[k];
+      mark(l.centre.x() - l.half_x, l.centre.y() - l.half_y, l.centre.x() + l.half_x, l.centre.y() + l.half_y,
+           [&](std::size_t idx) { light_id[idx] = static_cast<std::int32_t>(k); });
+    }
+    for (std::size_t k = 0; k < world.flat_items.size(); ++k) {
+      const FlatItem& f = world.flat_items[k];
+      const double r = std::hypot(f.half_x, f.half_y);
+      mark(f.centre.x() - r, f.centre.y() - r, f.centre.x() + r, f.centre.y() + r, [&](std::size_t idx) {
+        flat_id[idx] = flat_id[idx] == -1 ? static_cast<std::int16_t>(k) : std::int16_t{-2};
+      });
+    }
+    // Walls.
+    wall_light.clear();
+    wall_irr.clear();
+    for (const WallSegment& ws : world.walls) {
+      WallLight wl;
+      wl.offset = wall_irr.size();
+      wl.nu = static_cast<int>(std::ceil((ws.hi - ws.lo) / kCell)) + 1;
+      wl.nz = static_cast<int>(std::ceil(ws.height_m / kCell)) + 1;
+      wall_light.push_back(wl);
+      const Eigen::Vector3d normal(ws.normal.x(), ws.normal.y(), 0.0);
+      for (int iu = 0; iu < wl.nu; ++iu) {
+        const double along = std::min(ws.hi, ws.lo + iu * kCell);
+        Eigen::Vector2d p = ws.along_x ? Eigen::Vector2d(along, ws.coord) : Eigen::Vector2d(ws.coord, along);
+        p += ws.normal * 1e-3;
+        for (int iz = 0; iz < wl.nz; ++iz) {
+          const double z = std::min(ws.height_m - 1e-3, iz * kCell);
+          wall_irr.push_back(static_cast<float>(Irradiance({p.x(), p.y(), z}, normal)));
+        }
+      }
+    }
+    // Obstacles: top and mean side irradiance.
+    obs_top_irr.clear();
+    obs_side_irr.clear();
+    for (const Obstacle& o : world.obstacles) {
+      const Eigen::Vector3d top(o.centre.x(), o.centre.y(), o.z1);
+      obs_top_irr.push_back(static_cast<float>(Irradiance(top, {0, 0, 1})));
+      const double r = o.shape == Obstacle::Shape::kCylinder ? o.radius : std::max(o.half_x, o.half_y);
+      double side = 0;
+      for (int q = 0; q < 4; ++q) {
+        const Eigen::Vector3d nrm(std::cos(q * kPi / 2), std::sin(q * kPi / 2), 0);
+        const Eigen::Vector3d p = Eigen::Vector3d(o.centre.x(), o.centre.y(), 0.5 * (o.z0 + o.z1)) + nrm * (r + 0.01);
+        side += Irradiance(p, nrm);
+      }
+      obs_side_irr.push_back(static_cast<float>(side / 4));
+    }
+  }
+
+  // --- per frame --------------------------------------------------------------------------------
+  void PrepareFrame(const Pose2& pose) {
+    px = pose.x;
+    py = pose.y;
+    cyaw = std::cos(pose.yaw);
+    syaw = std::sin(pose.yaw);
+    cam_h = camera.height_m;
+    frame_ceiling = uniform_ceiling ? ceiling_h : std::max(cam_h + 0.01, world.CeilingAt({px, py}));
+    const double yaw0 = pose.yaw + a_min;
+    // Walls into the bearing table.
+    std::fill(edge_wall.begin(), edge_wall.end(), -1);
+    std::fill(edge_t.begin(), edge_t.end(), kInf);
+    for (std::size_t w = 0; w < world.walls.size(); ++w) {
+      const WallSegment& ws = world.walls[w];
+      double ax, ay, bx, by;
+      if (ws.along_x) ax = ws.lo, ay = ws.coord, bx = ws.hi, by = ws.coord;
+      else ax = ws.coord, ay = ws.lo, bx = ws.coord, by = ws.hi;
+      const double side = ws.along_x ? (py - ws.coord) * ws.normal.y() : (px - ws.coord) * ws.normal.x();
+      if (side <= 1e-12) continue;  // seen from behind or edge-on
+      double a0 = WrapPi(std::atan2(ay - py, ax - px) - yaw0);
+      double a1 = WrapPi(std::atan2(by - py, bx - px) - yaw0);
+      if (a0 > a1) std::swap(a0, a1);
+      double lo, hi;
+      if (a1 - a0 > kPi) lo = a1, hi = kPi + 1e-9 + (a0 + kPi);  // wraps behind: [a1, pi] u [-pi, a0]
+      else lo = a0, hi = a1;
+      int e0 = static_cast<int>(std::floor(lo / d_a)) - 1, e1 = static_cast<int>(std::ceil(hi / d_a)) + 1;
+      e0 = std::max(e0, 0);
+      e1 = std::min(e1, bins);
+      for (int e = e0; e <= e1; ++e) {
+        const double dx = cyaw * edge_c[e] - syaw * edge_s[e];
+        const double dy = syaw * edge_c[e] + cyaw * edge_s[e];
+        double t, along;
+        if (ws.along_x) {
+          if (std::abs(dy) < 1e-12) continue;
+          t = (ws.coord - py) / dy;
+          along = px + t * dx;
+        } else {
+          if (std::abs(dx) < 1e-12) continue;
+          t = (ws.coord - px) / dx;
+          along = py + t * dy;
+        }
+        if (t <= 0 || t >= edge_t[e] || along < ws.lo - 1e-9 || along > ws.hi + 1e-9) continue;
+        edge_t[e] = t;
+        edge_wall[e] = static_cast<int>(w);
+      }
+    }
+    // Obstacles into bins.
+    std::fill(bin_count.begin(), bin_count.end(), 0);
+    for (std::size_t o = 0; o < world.obstacles.size(); ++o) {
+      const Obstacle& ob = world.obstacles[o];
+      obs_c[o] = std::cos(ob.yaw);
+      obs_s[o] = std::sin(ob.yaw);
+      const double rx = px - ob.centre.x(), ry = py - ob.centre.y();
+      obs_ox[o] = obs_c[o] * rx + obs_s[o] * ry;
+      obs_oy[o] = -obs_s[o] * rx + obs_c[o] * ry;
+      const double rad = ob.shape == Obstacle::Shape::kCylinder ? ob.radius : std::hypot(ob.half_x, ob.half_y);
+      const double d = std::hypot(rx, ry);
+      auto add = [&](int b0, int b1) {
+        for (int b = std::max(b0, 0); b <= std::min(b1, bins - 1); ++b) {
+          int& cnt = bin_count[b];
+          if (cnt < kMaxBinObstacles) bin_obs[static_cast<std::size_t>(b) * kMaxBinObstacles + cnt] = static_cast<int>(o);
+          ++cnt;  // counts past the capacity mean "test all obstacles"
+        }
+      };
+      if (d <= rad + 1e-9) {
+        add(0, bins - 1);
+        continue;
+      }
+      const double centre = WrapPi(std::atan2(-ry, -rx) - yaw0);
+      const double half = std::asin(std::min(1.0, rad / d));
+      // The bins span [0, bins * d_a]; the interval may meet it directly or shifted by a turn.
+      for (double shift : {-2 * kPi, 0.0, 2 * kPi}) {
+        const double lo = centre - half + shift, hi = centre + half + shift;
+        if (hi < 0 || lo > bins * d_a) continue;
+        add(static_cast<int>(std::floor(lo / d_a)) - 1, static_cast<int>(std::ceil(hi / d_a)) + 1);
+      }
+    }
+  }
+
+  // Horizontal distance along (dx, dy) from the camera to wall w; infinity when the ray misses it.
+  double WallDistance(int w, double dx, double dy) const {
+    if (w < 0) return kInf;
+    const WallSegment& ws = world.walls[w];
+    double t, along;
+    if (ws.along_x) {
+      if (dy == 0) return kInf;
+      t = (ws.coord - py) / dy;
+      along = px + t * dx;
+    } else {
+      if (dx == 0) return kInf;
+      t = (ws.coord - px) / dx;
+      along = py + t * dy;
+    }
+    if (t <= 0 || along < ws.lo - 1e-7 || along > ws.hi + 1e-7) return kInf;
+    return t;
+  }
+
+  // Obstacle o against the ray from (ox, oy, oz) (world) with horizontal direction (dx, dy) and
+  // slope k; updates `hit` when nearer. (lx, ly) is the ray origin in the obstacle's frame.
+  void HitObstacle(int o, double lx, double ly, double oz, double dx, double dy, double k, Hit& hit) const {
+    const Obstacle& ob = world.obstacles[o];
+    double tin, tout;
+    int face = 0;
+    double ldx = dx, ldy = dy;
+    if (ob.shape == Obstacle::Shape::kBox) {
+      const double c = obs_c[o], s = obs_s[o];
+      ldx = c * dx + s * dy;
+      ldy = -s * dx + c * dy;
+      double t0x, t1x, t0y, t1y;
+      if (std::abs(ldx) < 1e-12) {
+        if (std::abs(lx) > ob.half_x) return;
+        t0x = -kInf, t1x = kInf;
+      } else {
+        t0x = (-ob.half_x - lx) / ldx, t1x = (ob.half_x - lx) / ldx;
+        if (t0x > t1x) std::swap(t0x, t1x);
+      }
+      if (std::abs(ldy) < 1e-12) {
+        if (std::abs(ly) > ob.half_y) return;
+        t0y = -kInf, t1y = kInf;
+      } else {
+        t0y = (-ob.half_y - ly) / ldy, t1y = (ob.half_y - ly) / ldy;
+        if (t0y > t1y) std::swap(t0y, t1y);
+      }
+      tin = std::max(t0x, t0y);
+      tout = std::min(t1x, t1y);
+      if (tin > tout || tout <= 0) return;
+      face = t0x > t0y ? (ldx > 0 ? 0 : 1) : (ldy > 0 ? 2 : 3);
+    } else {
+      const double b = lx * dx + ly * dy;
+      const double cc = lx * lx + ly * ly - ob.radius * ob.radius;
+      const double disc = b * b - cc;
+      if (disc < 0) return;
+      const double sq = std::sqrt(disc);
+      tin = -b - sq;
+      tout = -b + sq;
+      if (tout <= 0) return;
+    }
+    if (tin >= hit.r) return;
+    const double t_side = std::max(tin, 0.0);
+    const double z_in = oz + k * t_side;
+    if (z_in >= ob.z0 && z_in <= ob.z1) {
+      if (tin <= 0) {  // the origin is inside the obstacle
+        hit = {Surf::kInside, o, 0.0, 0, 0, 0};
+        return;
+      }
+      hit.surf = Surf::kObsSide;
+      hit.id = o;
+      hit.r = tin;
+      hit.face = face;
+      const double hx = lx + ldx * tin, hy = ly + ldy * tin;
+      if (ob.shape == Obstacle::Shape::kBox) hit.face_u = (face < 2 ? hy : hx);
+      else hit.face_u = std::atan2(hy, hx) * ob.radius, hit.face = (hx > 0) + 2 * (hy > 0);
+      hit.face_v = z_in;
+      return;
+    }
+    if (z_in > ob.z1 && k < 0) {
+      const double t = (ob.z1 - oz) / k;
+      if (t <= tout && t < hit.r) {
+        hit.surf = Surf::kObsTop;
+        hit.id = o;
+        hit.r = t;
+        hit.face_u = lx + ldx * t;
+        hit.face_v = ly + ldy * t;
+      }
+    } else if (z_in < ob.z0 && k > 0) {
+      const double t = (ob.z0 - oz) / k;
+      if (t <= tout && t < hit.r) {
+        hit.surf = Surf::kObsBottom;
+        hit.id = o;
+        hit.r = t;
+      }
+    }
+  }
+
+  // The fast path: camera origin, bearing table.
+  Hit Trace(const Sample& s, double& dx, double& dy) const {
+    dx = cyaw * s.ca - syaw * s.sa;
+    dy = syaw * s.ca + cyaw * s.sa;
+    Hit hit;
+    const int w0 = edge_wall[s.bin], w1 = edge_wall[s.bin + 1];
+    double t0 = WallDistance(w0, dx, dy);
+    double t1 = w1 != w0 ? WallDistance(w1, dx, dy) : kInf;
+    if (t0 <= t1) {
+      hit.r = t0, hit.id = w0;
+    } else {
+      hit.r = t1, hit.id = w1;
+    }
+    if (hit.r == kInf) {  // a sliver wall inside the bin: fall back to the exact search
+      if (const auto h = world.CastWalls({px, py}, {dx, dy})) hit.r = h->first, hit.id = h->second;
+    }
+    hit.surf = hit.id >= 0 ? Surf::kWall : Surf::kNone;
+    if (s.r_floor < hit.r) {
+      hit.surf = Surf::kFloor;
+      hit.r = s.r_floor;
+    } else if (s.k > 0) {
+      const double rc = (frame_ceiling - cam_h) / s.k;
+      if (rc < hit.r) {
+        hit.surf = Surf::kCeiling;
+        hit.r = rc;
+      }
+    }
+    const int cnt = bin_count[s.bin];
+    if (cnt > 0) {
+      if (cnt <= kMaxBinObstacles) {
+        const int* list = &bin_obs[static_cast<std::size_t>(s.bin) * kMaxBinObstacles];
+        for (int i = 0; i < cnt; ++i) HitObstacle(list[i], obs_ox[list[i]], obs_oy[list[i]], cam_h, dx, dy, s.k, hit);
+      } else {
+        for (std::size_t o = 0; o < world.obstacles.size(); ++o)
+          HitObstacle(static_cast<int>(o), obs_ox[o], obs_oy[o], cam_h, dx, dy, s.k, hit);
+      }
+    }
+    if (!uniform_ceiling && hit.surf == Surf::kCeiling) {
+      // Ceilings of other heights: re-intersect with the height over the hit point.
+      const double h2 = world.CeilingAt({px + dx * hit.r, py + dy * hit.r});
+      if (h2 > cam_h && h2 != frame_ceiling) hit.r = (h2 - cam_h) / s.k;
+    }
+    return hit;
+  }
+
+  // The slow path for mirror reflections: any origin, all walls and obstacles.
+  Hit TraceFrom(double ox, double oy, double oz, double dx, double dy, double k) const {
+    Hit hit;
+    if (const auto h = world.CastWalls({ox, oy}, {dx, dy})) {
+      hit.surf = Surf::kWall;
+      hit.id = h->second;
+      hit.r = h->first;
+    }
+    if (k < 0 && oz / -k < hit.r) hit = {Surf::kFloor, -1, oz / -k, 0, 0, 0};
+    const double ceil_h = world.CeilingAt({ox, oy});
+    if (k > 0 && (ceil_h - oz) / k < hit.r) hit = {Surf::kCeiling, -1, (ceil_h - oz) / k, 0, 0, 0};
+    for (std::size_t o = 0; o < world.obstacles.size(); ++o) {
+      const Obstacle& ob = world.obstacles[o];
+      const double c = std::cos(ob.yaw), s = std::sin(ob.yaw);
+      const double rx = ox - ob.centre.x(), ry = oy - ob.centre.y();
+      HitObstacle(static_cast<int>(o), c * rx + s * ry, -s * rx + c * ry, oz, dx, dy, k, hit);
+    }
+    return hit;
+  }
+
+  float Tex(int material, double u, double v) const {
+    const detail::TextureTable& t = tex[material];
+    const int iu = static_cast<int>(u * t.inv_texel_m + 16777216.0) & (detail::kTexSize - 1);
+    const int iv = static_cast<int>(v * t.inv_texel_m + 16777216.0) & (detail::kTexSize - 1);
+    return t.texels[iv * detail::kTexSize + iu] * t.gain;
+  }
+
+  std::size_t GridIndex(double x, double y) const {
+    const int i = std::clamp(static_cast<int>((x - gx0) * (1.0 / kCell)), 0, gnx - 1);
+    const int j = std::clamp(static_cast<int>((y - gy0) * (1.0 / kCell)), 0, gny - 1);
+    return static_cast<std::size_t>(j) * gnx + i;
+  }
+
+  // Radiance of a hit seen along (dx, dy, k) from (ox, oy, oz); `depth` limits mirror bounces.
+  double Shade(const Hit& hit, double ox, double oy, double oz, double dx, double dy, double k, int depth) const {
+    const double x = ox + dx * hit.r, y = oy + dy * hit.r;
+    switch (hit.surf) {
+      case Surf::kNone:
+      case Surf::kInside: return 0.0;
+      case Surf::kFloor: {
+        const std::size_t g = GridIndex(x, y);
+        const int f = flat_id[g];
+        if (f != -1) {
+          for (std::size_t i = (f >= 0 ? f : 0); i < (f >= 0 ? f + 1 : world.flat_items.size()); ++i) {
+            const FlatItem& it = world.flat_items[i];
+            const double c = std::cos(it.yaw), s = std::sin(it.yaw);
+            const double lx = c * (x - it.centre.x()) + s * (y - it.centre.y());
+            const double ly = -s * (x - it.centre.x()) + c * (y - it.centre.y());
+            if (std::abs(lx) <= it.half_x && std::abs(ly) <= it.half_y) {
+              const Material& m = world.materials[it.material];
+              return m.albedo * Tex(it.material, lx, ly) * floor_irr[g] + m.emission;
+            }
+          }
+        }
+        const int mat = floor_mat[g];
+        const Material& m = world.materials[mat];
+        return m.albedo * Tex(mat, x, y) * floor_irr[g] + m.emission;
+      }
+      case Surf::kCeiling: {
+        const std::size_t g = GridIndex(x, y);
+        const int l = light_id[g];
+        if (l >= 0) {
+          const Light& lt = world.lights[l];
+          if (std::abs(x - lt.centre.x()) <= lt.half_x && std::abs(y - lt.centre.y()) <= lt.half_y)
+            return lt.on ? kLightPanelRadiance * std::max(0.3, lt.intensity) : kOffPanelRadiance;
+        }
+        const int mat = ceil_mat[g];
+        const Material& m = world.materials[mat];
+        return m.albedo * Tex(mat, x, y) * (world.ambient + kCeilingBounce * floor_irr[g]) + m.emission;
+      }
+      case Surf::kWall: {
+        const WallSegment& ws = world.walls[hit.id];
+        const double along = ws.along_x ? x : y;
+        const double z = oz + k * hit.r;
+        int mat = ws.material;
+        double tu = along, tv = z;
+        for (int i = decal_begin[hit.id]; i < decal_end[hit.id]; ++i) {
+          const Decal& d = decals[i];
+          if (along >= d.lo && along <= d.hi && z >= d.z0 && z <= d.z1) {
+            mat = d.material;
+            tu = along - d.lo;
+            tv = d.z1 - z;
+            break;
+          }
+        }
+        const WallLight& wl = wall_light[hit.id];
+        const int iu = std::clamp(static_cast<int>((along - ws.lo) * (1.0 / kCell) + 0.5), 0, wl.nu - 1);
+        const int iz = std::clamp(static_cast<int>(z * (1.0 / kCell) + 0.5), 0, wl.nz - 1);
+        const double e = wall_irr[wl.offset + static_cast<std::size_t>(iu) * wl.nz + iz];
+        const Material& m = world.materials[mat];
+        double radiance = m.albedo * Tex(mat, tu, tv) * e + m.emission * Tex(mat, tu, tv);
+        if (m.mirror > 0 && depth < 1) {
+          const double rdx = ws.along_x ? dx : -dx, rdy = ws.along_x ? -dy : dy;
+          const double nx = x + ws.normal.x() * 1e-6, ny = y + ws.normal.y() * 1e-6;
+          const Hit r = TraceFrom(nx, ny, z, rdx, rdy, k);
+          radiance = (1 - m.mirror) * radiance + m.mirror * Shade(r, nx, ny, z, rdx, rdy, k, depth + 1);
+        }
+        return radiance;
+      }
+      case Surf::kObsSide: {
+        const Obstacle& ob = world.obstacles[hit.id];
+        static constexpr double kFace[4] = {0.95, 0.7, 0.82, 0.6};
+        const Material& m = world.materials[ob.material];
+        return m.albedo * Tex(ob.material, hit.face_u, hit.face_v) * obs_side_irr[hit.id] * kFace[hit.face & 3];
+      }
+      case Surf::kObsTop: {
+        const Obstacle& ob = world.obstacles[hit.id];
+        const Material& m = world.materials[ob.material];
+        return m.albedo * Tex(ob.material, hit.face_u, hit.face_v) * obs_top_irr[hit.id];
+      }
+      case Surf::kObsBottom: {
+        const Obstacle& ob = world.obstacles[hit.id];
+        return world.materials[ob.material].albedo * world.ambient;
+      }
+    }
+    return 0.0;
+  }
+
+  void Render(const Pose2& pose, MutableGrayView image, std::uint8_t* label, std::ptrdiff_t label_stride, float* range,
+              std::ptrdiff_t range_stride, std::uint64_t frame_id) {
+    SQUINT_ENSURE(image.data != nullptr && image.width == camera.width && image.height == camera.height,
+                  "Renderer::Render: the image must have the camera's size");
+    PrepareFrame(pose);
+    const int nn = n * n;
+    const double inv_nn = 1.0 / nn;
+    const double lut_scale = options.exposure * kGammaLutSize / kGammaLutMax;
+    const bool noisy = options.noise_sigma > 0;
+    const std::uint64_t key = SplitMix(options.seed ^ SplitMix(frame_id + 0x1234567ull));
+    const Sample* s = samples.data();
+    for (int v = 0; v < camera.height; ++v) {
+      std::uint8_t* row = image.Row(v);
+      for (int u = 0; u < camera.width; ++u) {
+        double sum = 0;
+        Hit first;
+        for (int i = 0; i < nn; ++i, ++s) {
+          double dx, dy;
+          const Hit hit = Trace(*s, dx, dy);
+          if (i == 0) first = hit;
+          sum += Shade(hit, px, py, cam_h, dx, dy, s->k, has_mirrors ? 0 : 1);
+        }
+        const int li = std::min(kGammaLutSize - 1, static_cast<int>(sum * inv_nn * lut_scale));
+        double grey = gamma_lut[std::max(0, li)];
+        if (noisy) {
+          const std::uint64_t h = SplitMix(key ^ (static_cast<std::uint64_t>(v) * 100003u + u));
+          grey += options.noise_sigma * normal_table[h & 0xFFFF];
+        }
+        row[u] = static_cast<std::uint8_t>(std::clamp(std::lround(grey), 0L, 255L));
+        if (label || range) {
+          const Sample& c = n > 1 ? centres[static_cast<std::size_t>(v) * camera.width + u] : *(s - 1);
+          double dx, dy;
+          const Hit hit = n > 1 ? Trace(c, dx, dy) : first;
+          if (label) label[v * label_stride + u] = hit.surf == Surf::kFloor ? kLabelFloor : kLabelStanding;
+          if (range) range[v * range_stride + u] = static_cast<float>(hit.r * c.range_per_h);
+        }
+      }
+    }
+  }
+};
+
+Renderer::Renderer(const World& world, const CameraModel& camera, const RenderOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->Init(world, camera, options);
+}
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+const CameraModel& Renderer::Camera() const { return impl_->camera; }
+const RenderOptions& Renderer::Options() const { return impl_->options; }
+
+void Renderer::Render(const Pose2& world_T_robot, MutableGrayView image, std::uint8_t* label, std::ptrdiff_t label_stride,
+                      float* range_m, std::ptrdiff_t range_stride, std::uint64_t frame_id) {
+  impl_->Render(world_T_robot, image, label, label_stride, range_m, range_stride, frame_id);
+}
+
+cv::Mat Renderer::Render(const Pose2& world_T_robot, cv::Mat* label, cv::Mat* range_m, std::uint64_t frame_id) {
+  const CameraModel& c = impl_->camera;
+  cv::Mat image(c.height, c.width, CV_8UC1);
+  std::uint8_t* lp = nullptr;
+  float* rp = nullptr;
+  if (label) {
+    label->create(c.height, c.width, CV_8UC1);
+    lp = label->ptr<std::uint8_t>();
+  }
+  if (range_m) {
+    range_m->create(c.height, c.width, CV_32FC1);
+    rp = range_m->ptr<float>();
+  }
+  Render(world_T_robot, {image.data, c.width, c.height, static_cast<std::ptrdiff_t>(image.step)}, lp,
+         label ? static_cast<std::ptrdiff_t>(label->step) : 0, rp,
+         range_m ? static_cast<std::ptrdiff_t>(range_m->step / sizeof(float)) : 0, frame_id);
+  return image;
+}
+
+}  // namespace squint::sim
