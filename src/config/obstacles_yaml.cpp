@@ -78,7 +78,8 @@ IptOptions IptOptionsFromYaml(const std::string& text, const std::string& source
     r.RequireMap(f, "features",
                  {"detector", "max_features", "ratio", "sift_contrast_threshold", "sift_octave_layers",
                   "orb_fast_threshold", "orb_levels", "akaze_threshold", "klt_quality", "klt_min_distance_px",
-                  "klt_window_px", "klt_levels", "klt_max_fb_error_px", "max_displacement_px"});
+                  "klt_window_px", "klt_levels", "klt_max_fb_error_px", "refine_subpixel", "refine_window_px",
+                  "refine_max_shift_px", "max_displacement_px"});
     std::string detector = obstacles::DetectorName(o.features.detector);
     r.Get(f, "features", "detector", &detector);
     if (!obstacles::ParseDetector(detector, &o.features.detector))
@@ -96,6 +97,9 @@ IptOptions IptOptionsFromYaml(const std::string& text, const std::string& source
     r.Get(f, "features", "klt_window_px", &x.klt_window_px);
     r.Get(f, "features", "klt_levels", &x.klt_levels);
     r.Get(f, "features", "klt_max_fb_error_px", &x.klt_max_fb_error_px);
+    r.Get(f, "features", "refine_subpixel", &x.refine_subpixel);
+    r.Get(f, "features", "refine_window_px", &x.refine_window_px);
+    r.Get(f, "features", "refine_max_shift_px", &x.refine_max_shift_px);
     r.Get(f, "features", "max_displacement_px", &x.max_displacement_px);
   }
   if (const YAML::Node f = root["fundamental"]) {
@@ -170,6 +174,9 @@ std::string IptOptionsToYaml(const IptOptions& o) {
   e << YAML::Key << "klt_window_px" << YAML::Value << f.klt_window_px;
   e << YAML::Key << "klt_levels" << YAML::Value << f.klt_levels;
   e << YAML::Key << "klt_max_fb_error_px" << YAML::Value << f.klt_max_fb_error_px;
+  e << YAML::Key << "refine_subpixel" << YAML::Value << f.refine_subpixel;
+  e << YAML::Key << "refine_window_px" << YAML::Value << f.refine_window_px;
+  e << YAML::Key << "refine_max_shift_px" << YAML::Value << f.refine_max_shift_px;
   e << YAML::Key << "max_displacement_px" << YAML::Value << f.max_displacement_px;
   e << YAML::EndMap;
   const auto& F = o.fundamental;

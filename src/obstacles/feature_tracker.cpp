@@ -47,6 +47,8 @@ std::string FeatureOptions::Validate() const {
   if (klt_window_px < 3) why << "klt_window_px must be at least 3; ";
   if (klt_levels < 0) why << "klt_levels must not be negative; ";
   if (!(klt_max_fb_error_px > 0.0)) why << "klt_max_fb_error_px must be positive; ";
+  if (refine_window_px < 3) why << "refine_window_px must be at least 3; ";
+  if (!(refine_max_shift_px > 0.0)) why << "refine_max_shift_px must be positive; ";
   if (!(max_displacement_px > 0.0)) why << "max_displacement_px must be positive; ";
   std::string s = why.str();
   if (s.size() >= 2) s.resize(s.size() - 2);
@@ -87,6 +89,7 @@ class DescriptorTracker : public FeatureTracker {
       if (!CloseEnough(p, c, options_.max_displacement_px)) continue;
       matches->push_back({p, c});
     }
+    if (options_.refine_subpixel && !matches->empty()) Refine(previous, current, matches);
   }
 
  private:
@@ -98,6 +101,28 @@ class DescriptorTracker : public FeatureTracker {
   cv::Mat desc_prev_, desc_cur_;
   std::vector<std::vector<cv::DMatch>> knn_;
   std::vector<cv::DMatch> back_;
+  std::vector<cv::Point2f> from_, to_, start_;
+  std::vector<unsigned char> status_;
+  std::vector<float> err_;
+
+  // Lucas–Kanade from the matched position: the earlier point stays, the later one moves to the
+  // sub-pixel optimum of the local image patch.
+  void Refine(const cv::Mat& previous, const cv::Mat& current, std::vector<Match>* matches) {
+    from_.clear();
+    to_.clear();
+    for (const Match& m : *matches) from_.push_back(m.previous), to_.push_back(m.current);
+    start_ = to_;
+    const cv::Size window(options_.refine_window_px, options_.refine_window_px);
+    const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.001);
+    cv::calcOpticalFlowPyrLK(previous, current, from_, to_, status_, err_, window, 0, term,
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < matches->size(); ++i) {
+      if (!status_[i] || !CloseEnough(start_[i], to_[i], options_.refine_max_shift_px)) continue;
+      (*matches)[kept++] = {from_[i], to_[i]};
+    }
+    matches->resize(kept);
+  }
 };
 
 // Shi–Tomasi corners in the earlier frame tracked into the later one, kept when tracking back lands

@@ -39,6 +39,12 @@ struct FeatureOptions {
   int klt_window_px = 15;
   int klt_levels = 3;
   double klt_max_fb_error_px = 1.0;
+  // Optionally refine descriptor matches (SIFT, ORB, AKAZE) to sub-pixel accuracy by Lucas–Kanade from the
+  // matched position (keypoint positions are too coarse for the floor back-projection far away);
+  // a match whose refinement fails or moves more than refine_max_shift_px is dropped.
+  bool refine_subpixel = false;
+  int refine_window_px = 15;
+  double refine_max_shift_px = 2.0;
   // Matches whose image displacement exceeds this many pixels are dropped (consecutive frames of a
   // slowly moving robot; a mismatch across the image is never a real correspondence).
   double max_displacement_px = 60.0;
