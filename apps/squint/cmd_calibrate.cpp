@@ -66,6 +66,9 @@ void Run(const CalibrateCliOptions& opt) {
                         : fs::path(s).lexically_normal().filename().string());
     total += seqs.back().Size();
   }
+  std::vector<const io::Sequence*> ptrs;
+  for (const io::Sequence& s : seqs) ptrs.push_back(&s);
+  eval::CheckCalibrationSpread(ptrs, fit.fit_heading, fit.fit_distance);
   std::vector<eval::CorridorRun> runs;
   ProgressBar bar("calibrate", total);
   std::size_t done = 0;

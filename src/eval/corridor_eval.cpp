@@ -315,6 +315,30 @@ void CheckCalibrationInputs(const io::Sequence& sequence, bool need_heading, boo
                         "time to contact and to tell driving from turning");
 }
 
+void CheckCalibrationSpread(const std::vector<const io::Sequence*>& sequences, bool need_heading,
+                            bool need_distance, double min_heading_span_deg, double min_dist_span_m) {
+  double h_lo = HUGE_VAL, h_hi = -HUGE_VAL, d_lo = HUGE_VAL, d_hi = -HUGE_VAL;
+  for (const io::Sequence* s : sequences)
+    for (const io::FrameRecord& r : s->Frames()) {
+      if (r.gt.heading_deg) {
+        h_lo = std::min(h_lo, *r.gt.heading_deg);
+        h_hi = std::max(h_hi, *r.gt.heading_deg);
+      }
+      if (r.gt.dist_end_m) {
+        d_lo = std::min(d_lo, *r.gt.dist_end_m);
+        d_hi = std::max(d_hi, *r.gt.dist_end_m);
+      }
+    }
+  if (need_heading && !(h_hi - h_lo >= min_heading_span_deg))
+    throw Error(fmt::format("singular calibration: the true headings of all {} sequence(s) span only {:.3g} deg "
+                            "(need >= {:g}); record a heading sweep (or pass --only distance)",
+                            sequences.size(), std::max(0.0, h_hi - h_lo), min_heading_span_deg));
+  if (need_distance && !(d_hi - d_lo >= min_dist_span_m))
+    throw Error(fmt::format("singular calibration: the true distances to the end of all {} sequence(s) span only "
+                            "{:.3g} m (need >= {:g}); record a drive toward the end (or pass --only heading)",
+                            sequences.size(), std::max(0.0, d_hi - d_lo), min_dist_span_m));
+}
+
 CorridorCalibrationFile FitCorridorCalibration(const std::vector<CorridorRun>& runs,
                                                const std::vector<std::string>& sequence_names,
                                                const corridor::CorridorOptions& base,

@@ -143,6 +143,11 @@ CorridorCalibrationFile FitCorridorCalibration(const std::vector<CorridorRun>& r
 // (gt_heading_deg for heading; gt_dist_end_m and odometry or a frame rate for distance).
 // Throws squint::Error naming the sequence's frames.csv.
 void CheckCalibrationInputs(const io::Sequence& sequence, bool need_heading, bool need_distance);
+// Checks across all sequences that the truth varies enough for the fits to be defined: the true
+// headings span at least `min_heading_span_deg`, the true distances (while driving) at least
+// `min_dist_span_m`. Throws squint::Error ("singular calibration: ...") otherwise.
+void CheckCalibrationSpread(const std::vector<const io::Sequence*>& sequences, bool need_heading,
+                            bool need_distance, double min_heading_span_deg = 1.0, double min_dist_span_m = 0.5);
 
 // ---- Evaluation report ------------------------------------------------------------------
 

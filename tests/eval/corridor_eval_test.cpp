@@ -1,0 +1,185 @@
+// Corridor evaluation: the calibration file round trip, the calibration fit on constructed runs
+// (planted parameters recovered, singular input refused) and the report on known errors.
+#include "squint/eval/corridor_eval.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "squint/config/corridor_yaml.hpp"
+#include "squint/core/error.hpp"
+
+namespace squint::eval {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path TempDir(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("squint_corridor_eval_test_" + name);
+  fs::remove_all(p);
+  return p;
+}
+
+CorridorCalibrationFile NonDefaultFile() {
+  CorridorCalibrationFile f;
+  f.options.heading.cues[0].scale = 0.87;
+  f.options.heading.cues[0].bias_deg = -1.25;
+  f.options.heading.cues[4].weight = 0.0625;
+  f.options.distance.ttc_scale = 1.1;
+  f.options.distance.alpha2 = 12.5;
+  f.options.distance.beta2 = 9.5;
+  f.options.distance.alpha3 = -0.0375;
+  f.record.fitted_on = {"orient-1-00", "drive-3-00c"};
+  f.record.heading[2].fitted = true;
+  f.record.heading[2].error_std_deg = 3.5;
+  f.record.heading[2].reliable_min_deg = -12.5;
+  f.record.heading[2].reliable_max_deg = 10.5;
+  f.record.distance[0].fitted = true;
+  f.record.distance[0].sigma0_m = 0.2;
+  f.record.distance[0].sigma_slope = 0.125;
+  f.record.distance[1].samples = 441;
+  return f;
+}
+
+TEST(CalibrationFile, RoundTripKeepsOptionsAndRecord) {
+  const CorridorCalibrationFile f = NonDefaultFile();
+  const std::string text = CalibrationFileToYaml(f);
+  const CorridorCalibrationFile g = CalibrationFileFromYaml(text, "mem");
+  EXPECT_EQ(config::CorridorOptionsToYaml(g.options), config::CorridorOptionsToYaml(f.options));
+  EXPECT_EQ(g.record.fitted_on, f.record.fitted_on);
+  EXPECT_TRUE(g.record.heading[2].fitted);
+  EXPECT_DOUBLE_EQ(g.record.heading[2].error_std_deg, 3.5);
+  EXPECT_DOUBLE_EQ(g.record.heading[2].reliable_min_deg, -12.5);
+  EXPECT_DOUBLE_EQ(g.record.heading[2].reliable_max_deg, 10.5);
+  EXPECT_DOUBLE_EQ(g.record.distance[0].sigma0_m, 0.2);
+  EXPECT_DOUBLE_EQ(g.record.distance[0].sigma_slope, 0.125);
+  EXPECT_EQ(g.record.distance[1].samples, 441u);
+  // The text is written again identically (a fixed point).
+  EXPECT_EQ(CalibrationFileToYaml(g), text);
+}
+
+TEST(CalibrationFile, PerceptionOptionsLoaderReadsTheSameFile) {
+  // perceive/explore read --calib with config::LoadCorridorOptions: it must accept the file.
+  const fs::path dir = TempDir("load");
+  fs::create_directories(dir);
+  SaveCalibrationFile(dir / "calib.yaml", NonDefaultFile());
+  const corridor::CorridorOptions o = config::LoadCorridorOptions(dir / "calib.yaml");
+  EXPECT_DOUBLE_EQ(o.heading.cues[0].scale, 0.87);
+  EXPECT_DOUBLE_EQ(o.distance.alpha3, -0.0375);
+  fs::remove_all(dir);
+}
+
+TEST(CalibrationFile, BadRecordIsRefusedWithKey) {
+  std::string text = CalibrationFileToYaml(NonDefaultFile());
+  const std::size_t at = text.find("sigma0_m: 0.2");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 13, "sigma0_m: abc");
+  try {
+    CalibrationFileFromYaml(text, "calib.yaml");
+    FAIL() << "accepted a bad value";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("calib.yaml: 'distance.ttc.sigma0_m'"), std::string::npos) << e.what();
+  }
+}
+
+// Runs whose raw values follow the paper's models with planted constants.
+std::vector<CorridorRun> PlantedRuns() {
+  std::vector<CorridorRun> runs(2);
+  for (int r = 0; r < 2; ++r) {
+    for (int i = 0; i < 41; ++i) {  // a sweep: cue k reads (truth - bias_k) / scale_k
+      CorridorFrame f;
+      f.gt.heading_deg = -20.0 + i;
+      for (int k = 0; k < corridor::kHeadingCueCount; ++k)
+        f.heading_camera_deg[k] = (*f.gt.heading_deg - (k - 2) * 0.5) / (0.8 + 0.1 * k);
+      runs[r].frames.push_back(f);
+    }
+    for (int i = 0; i < 140; ++i) {  // a drive from 14.3 m to 0.4 m
+      CorridorFrame f;
+      const double d = 14.3 - 0.1 * i;
+      f.gt.heading_deg = 0.0;
+      f.gt.dist_end_m = d;
+      f.moving_forward = true;
+      f.dist_raw[0] = d / 1.2;               // ttc scale 1.2
+      f.dist_raw[1] = (9.0 - d) / 0.5;       // β2 = 9, α2 = 0.5
+      f.dist_raw[2] = -0.02 / d;             // α3 = −0.02
+      runs[r].frames.push_back(f);
+    }
+  }
+  return runs;
+}
+
+TEST(FitCorridorCalibration, RecoversPlantedParameters) {
+  const CorridorCalibrationFile f = FitCorridorCalibration(PlantedRuns(), {"a", "b"}, {}, {});
+  for (int k = 0; k < corridor::kHeadingCueCount; ++k) {
+    EXPECT_NEAR(f.options.heading.cues[k].scale, 0.8 + 0.1 * k, 1e-9) << k;
+    EXPECT_NEAR(f.options.heading.cues[k].bias_deg, (k - 2) * 0.5, 1e-9) << k;
+    EXPECT_TRUE(f.record.heading[k].fitted);
+  }
+  EXPECT_NEAR(f.options.distance.ttc_scale, 1.2, 1e-9);
+  EXPECT_NEAR(f.options.distance.alpha2, 0.5, 1e-9);
+  EXPECT_NEAR(f.options.distance.beta2, 9.0, 1e-9);
+  EXPECT_NEAR(f.options.distance.alpha3, -0.02, 1e-12);
+  EXPECT_EQ(f.record.fitted_on, (std::vector<std::string>{"a", "b"}));
+  EXPECT_TRUE(f.options.Validate().empty());
+}
+
+TEST(FitCorridorCalibration, RefusesRunsWithoutTruthOrWithOneHeading) {
+  std::vector<CorridorRun> runs = PlantedRuns();
+  for (auto& r : runs)
+    for (auto& f : r.frames) f.gt.heading_deg = 3.0;  // all headings equal
+  EXPECT_THROW(FitCorridorCalibration(runs, {}, {}, {}), Error);
+  CalibrateOptions only_distance;
+  only_distance.fit_heading = false;
+  EXPECT_NO_THROW(FitCorridorCalibration(runs, {}, {}, only_distance));
+  for (auto& r : runs)
+    for (auto& f : r.frames) f.gt.dist_end_m = 4.0;  // one distance only
+  EXPECT_THROW(FitCorridorCalibration(runs, {}, {}, only_distance), Error);
+  for (auto& r : runs)
+    for (auto& f : r.frames) f.gt.dist_end_m.reset();
+  EXPECT_THROW(FitCorridorCalibration(runs, {}, {}, only_distance), Error);
+}
+
+TEST(CorridorReport, KnownErrorsGiveKnownNumbersAndFiles) {
+  CorridorRun run;
+  run.name = "constructed";
+  for (int i = 0; i < 100; ++i) {
+    CorridorFrame f;
+    f.index = static_cast<std::size_t>(i);
+    f.gt.heading_deg = -10.0 + 0.2 * i;
+    f.fused_heading_deg = *f.gt.heading_deg + (i % 2 ? 2.0 : -2.0);  // RMSE exactly 2
+    f.kalman_heading_deg = *f.gt.heading_deg;
+    f.gt.dist_end_m = 10.0 - 0.1 * i;
+    f.moving_forward = true;
+    f.fused_dist_m = i < 50 ? std::optional<double>(*f.gt.dist_end_m + 1.0) : std::nullopt;
+    f.gated_processed = i % 4 == 0;
+    f.gate_change = 0.001 * (i % 10);
+    f.gated_heading_deg = f.gated_processed ? f.fused_heading_deg : std::nullopt;
+    run.frames.push_back(f);
+  }
+  const fs::path dir = TempDir("report");
+  CorridorEvalOptions o;
+  o.plot_width_px = 320;
+  o.plot_height_px = 240;
+  const std::string text = WriteCorridorReport({run}, dir, o, {"a warning"}, "");
+  const nlohmann::json r = nlohmann::json::parse(text);
+  EXPECT_NEAR(r["heading"]["fused"]["rmse_deg"].get<double>(), 2.0, 1e-12);
+  EXPECT_NEAR(r["heading"]["kalman"]["rmse_deg"].get<double>(), 0.0, 1e-12);
+  EXPECT_NEAR(r["distance"]["fused"]["rmse_m"].get<double>(), 1.0, 1e-12);
+  EXPECT_NEAR(r["distance"]["fused"]["coverage"].get<double>(), 0.5, 1e-12);
+  EXPECT_NEAR(r["rapid_perception"]["fraction_processed"].get<double>(), 0.25, 1e-12);
+  EXPECT_EQ(r["rapid_perception"]["sequences"][0]["processed_per_block"],
+            (nlohmann::json{13, 12}));
+  EXPECT_EQ(r["warnings"][0], "a warning");
+  EXPECT_TRUE(fs::exists(dir / "report.json"));
+  EXPECT_TRUE(fs::exists(dir / "heading_fused.png"));
+  EXPECT_TRUE(fs::exists(dir / "sign_fused.png"));
+  EXPECT_TRUE(fs::exists(dir / "distance_fused.png"));
+  EXPECT_TRUE(fs::exists(dir / "rapid_processed.png"));
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace squint::eval
