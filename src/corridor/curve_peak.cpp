@@ -36,7 +36,9 @@ Peak FindPeak(const std::array<float, kGlanceWidth>& curve, int first, int last,
     if (denom < 0.0) column += std::clamp(0.5 * (a - c) / denom, -0.5, 0.5);
   }
   peak.column = column;
-  if (best < border_px || best > kGlanceWidth - 1 - border_px) {
+  // An argmax on the first or last scored column may be a slope running out of the view, not a
+  // peak; so is one within border_px of the glance edge.
+  if (best == first || best == last || best < border_px || best > kGlanceWidth - 1 - border_px) {
     peak.reason = Reason::kPeakAtBorder;
   } else if (peak.prominence < min_prominence) {
     peak.reason = Reason::kFlatCurve;

@@ -15,7 +15,8 @@ struct Peak {
 };
 
 // The maximum of curve[first..last] (inclusive). kFlatCurve when max == min or the prominence is
-// below min_prominence; kPeakAtBorder when the argmax lies within border_px of the glance edge.
+// below min_prominence; kPeakAtBorder when the argmax is the first or last scored column or lies
+// within border_px of the glance edge.
 // The column is refined by a parabola through the argmax and its neighbours.
 Peak FindPeak(const std::array<float, kGlanceWidth>& curve, int first, int last, int border_px,
               double min_prominence);

@@ -34,30 +34,40 @@ void SetFromPeak(const detail::Peak& peak, HeadingMeasureResult& out) {
   out.reason = Reason::kNone;
 }
 
-// Miller–Madow-corrected mutual information from a joint histogram with N samples, using the
-// n·log n table: MI = (Σ n_ab log n_ab − Σ n_a log n_a − Σ n_b log n_b + N log N) / N, minus the
-// bias (B_a − 1)(B_b − 1) / 2N of the plug-in estimate, B = occupied bins.
-double CorrectedMutualInformation(const std::uint32_t* joint, int bins, std::uint32_t n) {
+// Miller–Madow-corrected mutual information from a joint histogram with N < kNLogNTableSize
+// samples, using the n·log n table t: MI = (Σ t(n_ab) − Σ t(n_a) − Σ t(n_b) + t(N)) / N, minus the
+// bias (B_a − 1)(B_b − 1) / 2N of the plug-in estimate (B = occupied bins).
+inline double CorrectedMutualInformation(const std::uint16_t* joint, int bins, std::uint32_t n, const double* t) {
   if (n == 0) return 0.0;
   std::uint32_t row[kMaxVanishingBins] = {}, col[kMaxVanishingBins] = {};
   double s = 0.0;
   for (int a = 0; a < bins; ++a) {
+    const std::uint16_t* r = joint + a * bins;
     for (int b = 0; b < bins; ++b) {
-      const std::uint32_t c = joint[a * bins + b];
-      row[a] += c;
-      col[b] += c;
-      s += NLogN(c);
+      row[a] += r[b];
+      col[b] += r[b];
+      s += t[r[b]];
     }
   }
   int ra = 0, cb = 0;
   for (int a = 0; a < bins; ++a) {
-    s -= NLogN(row[a]) + NLogN(col[a]);
+    s -= t[row[a]] + t[col[a]];
     ra += row[a] > 0;
     cb += col[a] > 0;
   }
-  s += NLogN(n);
-  const double mi = s / n;
-  return mi - (ra - 1) * (cb - 1) / (2.0 * n);
+  s += t[n];
+  return s / n - (ra - 1) * (cb - 1) / (2.0 * n);
+}
+
+// atan for the phase cue: a minimax polynomial on [−1, 1] (error < 2e-5 rad), folded outside.
+inline double FastAtan(double z) {
+  const bool fold = std::abs(z) > 1.0;
+  const double x = fold ? 1.0 / z : z;
+  const double x2 = x * x;
+  const double p =
+      x * (0.99997726 + x2 * (-0.33262347 + x2 * (0.19354346 + x2 * (-0.11643287 + x2 * (0.05265332 + x2 * -0.01172120)))));
+  if (!fold) return p;
+  return (z > 0.0 ? 1.5707963267948966 : -1.5707963267948966) - p;
 }
 
 }  // namespace
@@ -96,17 +106,24 @@ void SymmetryHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& out
   if (g.Uniform()) return SetNoEstimate(out, Reason::kUniformFrame);
   const int bins = 1 << options_.column_bits;
   const int dmin = options_.symmetry_min_half_width_px;
+  const double* table = NLogNTable();
   float lowest = 0.0f;
   bool any = false;
   int first = kW, last = -1;
   for (int x = dmin; x <= kW - 1 - dmin; ++x) {
     const int d_max = std::min({options_.symmetry_half_width_px, x, kW - 1 - x});
-    std::uint32_t joint[kMaxColumnBins * kMaxColumnBins] = {};
-    for (int v = 0; v < kH; ++v) {
+    std::uint16_t joint[kMaxColumnBins * kMaxColumnBins] = {};
+    std::uint16_t joint2[kMaxColumnBins * kMaxColumnBins] = {};
+    for (int v = 0; v < kH; v += 2) {
       const std::uint8_t* row = g.column_level.data() + v * kW;
-      for (int d = 1; d <= d_max; ++d) ++joint[row[x - d] * bins + row[x + d]];
+      const std::uint8_t* row2 = row + kW;
+      for (int d = 1; d <= d_max; ++d) {
+        ++joint[row[x - d] * bins + row[x + d]];
+        ++joint2[row2[x - d] * bins + row2[x + d]];
+      }
     }
-    const double mi = CorrectedMutualInformation(joint, bins, static_cast<std::uint32_t>(d_max * kH));
+    for (int k = 0; k < bins * bins; ++k) joint[k] = static_cast<std::uint16_t>(joint[k] + joint2[k]);
+    const double mi = CorrectedMutualInformation(joint, bins, static_cast<std::uint32_t>(d_max * kH), table);
     out.curve[x] = static_cast<float>(mi);
     lowest = any ? std::min(lowest, out.curve[x]) : out.curve[x];
     any = true;
@@ -141,7 +158,7 @@ void PhaseHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& out) c
       const int gx = g.grad_x[v * kW + u], gy = g.grad_y[v * kW + u];
       if (gx * gx + gy * gy < min_mag2) continue;
       if (std::abs(gy) > tan_max * std::abs(gx)) continue;  // near-horizontal edge: phase ±90° ambiguous
-      column_sum[u] += std::atan(static_cast<double>(gy) / gx);
+      column_sum[u] += FastAtan(static_cast<double>(gy) / gx);
       ++column_count[u];
       ++total;
     }
@@ -200,12 +217,13 @@ void VanishingHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& ou
   constexpr int kSw = kW / 2, kSh = kH / 2;
   const int bins = 1 << options_.vanishing_bits;
   const int shift = 8 - options_.vanishing_bits;
+  // S's levels pre-multiplied by the bin count: the joint index is small_row[i] + level.
   std::uint8_t small[kSw * kSh];
   for (int j = 0; j < kSh; ++j) {
     for (int i = 0; i < kSw; ++i) {
       const std::uint8_t* p = g.glance.pixels.data() + 2 * j * kW + 2 * i;
       const int mean = (p[0] + p[1] + p[kW] + p[kW + 1] + 2) >> 2;
-      small[j * kSw + i] = static_cast<std::uint8_t>(mean >> shift);
+      small[j * kSw + i] = static_cast<std::uint8_t>((mean >> shift) * bins);
     }
   }
   // Rows of offsets to search.
@@ -220,30 +238,32 @@ void VanishingHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& ou
   float score[kOx][kH - kSh + 1];
   bool done[kOx][kH - kSh + 1] = {};
   const std::uint8_t* level = g.vanishing_level.data();
+  const double* table = NLogNTable();
   auto evaluate = [&](int ox, int oy) -> float {
     if (done[ox][oy]) return score[ox][oy];
-    std::uint32_t joint[kMaxVanishingBins * kMaxVanishingBins] = {};
+    // Two interleaved histograms halve the store-to-load chains on repeated bins.
+    std::uint16_t joint[kMaxVanishingBins * kMaxVanishingBins] = {};
+    std::uint16_t joint2[kMaxVanishingBins * kMaxVanishingBins] = {};
     for (int j = 0; j < kSh; ++j) {
       const std::uint8_t* a = small + j * kSw;
       const std::uint8_t* b = level + (oy + j) * kW + ox;
-      for (int i = 0; i < kSw; ++i) ++joint[a[i] * bins + b[i]];
+      for (int i = 0; i < kSw; i += 2) {
+        ++joint[a[i] + b[i]];
+        ++joint2[a[i + 1] + b[i + 1]];
+      }
     }
-    const float mi = static_cast<float>(CorrectedMutualInformation(joint, bins, kSw * kSh));
+    for (int k = 0; k < bins * bins; ++k) joint[k] = static_cast<std::uint16_t>(joint[k] + joint2[k]);
+    const float mi = static_cast<float>(CorrectedMutualInformation(joint, bins, kSw * kSh, table));
     done[ox][oy] = true;
     score[ox][oy] = mi;
     return mi;
   };
   int best_ox = 0, best_oy = oy_lo;
   float best = -1e30f;
+  // Every horizontal offset (the MI peak is about one offset wide, too sharp for a coarse grid)
+  // over the bounded rows.
   for (int oy = oy_lo; oy <= oy_hi; ++oy) {
-    for (int ox = 0; ox < kOx; ox += 2) {
-      const float s = evaluate(ox, oy);
-      if (s > best) best = s, best_ox = ox, best_oy = oy;
-    }
-  }
-  // Refine: the odd neighbours of the coarse best, then settle on the best of those.
-  for (int ox = std::max(0, best_ox - 1); ox <= std::min(kOx - 1, best_ox + 1); ++ox) {
-    for (int oy = std::max(oy_lo, best_oy - 1); oy <= std::min(oy_hi, best_oy + 1); ++oy) {
+    for (int ox = 0; ox < kOx; ++ox) {
       const float s = evaluate(ox, oy);
       if (s > best) best = s, best_ox = ox, best_oy = oy;
     }
@@ -264,7 +284,7 @@ void VanishingHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& ou
     out.curve[c1] = std::max(out.curve[c1] == 0.0f ? lo : out.curve[c1], s);
   }
   if (!(best > 0.0f)) return SetNoEstimate(out, Reason::kNoMatch);
-  // Prominence over the coarse row of the best placement.
+  // Prominence over the row of the best placement.
   float row_lo = best;
   float sorted[kOx];
   int n = 0;
@@ -313,23 +333,48 @@ void BrightHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& out) 
   while (hist[lo_level] == 0) ++lo_level;
   while (hist[hi_level] == 0) --hi_level;
   if (lo_level == hi_level) return SetNoEstimate(out, Reason::kNoBrightCluster);
-  double c_dark = lo_level, c_bright = hi_level;
-  int threshold = 0;  // levels > threshold are bright
-  for (int it = 0; it < options_.kmeans_iterations; ++it) {
-    const int t = static_cast<int>(std::floor(0.5 * (c_dark + c_bright)));
-    const std::uint32_t nd = count[t + 1], nb = count[256] - nd;
-    if (nd == 0 || nb == 0) break;
-    const double new_dark = static_cast<double>(sum[t + 1]) / nd;
-    const double new_bright = static_cast<double>(sum[256] - sum[t + 1]) / nb;
-    threshold = t;
-    if (new_dark == c_dark && new_bright == c_bright) break;
-    c_dark = new_dark;
-    c_bright = new_bright;
+  // k-means (k = 2) on [first, 255]: returns the threshold (levels > t are bright) and centres.
+  struct Split {
+    int threshold = -1;
+    double dark = 0.0, bright = 0.0;
+  };
+  auto kmeans = [&](int first) {
+    Split sp;
+    int lo = first, hi = 255;
+    while (lo < 255 && hist[lo] == 0) ++lo;
+    while (hi > 0 && hist[hi] == 0) --hi;
+    if (lo >= hi) return sp;
+    double c_dark = lo, c_bright = hi;
+    for (int it = 0; it < options_.kmeans_iterations; ++it) {
+      const int t = static_cast<int>(std::floor(0.5 * (c_dark + c_bright)));
+      const std::uint32_t nd = count[t + 1] - count[first], nb = count[256] - count[t + 1];
+      if (nd == 0 || nb == 0) break;
+      const double new_dark = static_cast<double>(sum[t + 1] - sum[first]) / nd;
+      const double new_bright = static_cast<double>(sum[256] - sum[t + 1]) / nb;
+      sp = {t, new_dark, new_bright};
+      if (new_dark == c_dark && new_bright == c_bright) break;
+      c_dark = new_dark;
+      c_bright = new_bright;
+    }
+    return sp;
+  };
+  // The paper's split; when its bright cluster is too large to be lights (a lit ceiling or
+  // wall), split that cluster again (at most twice), keeping the brighter part each time.
+  Split split = kmeans(lo_level);
+  for (int level = 0; level < 2 && split.threshold >= 0; ++level) {
+    const std::uint32_t nb = count[256] - count[split.threshold + 1];
+    if (nb <= options_.bright_max_fraction * rows * kW) break;
+    const Split inner = kmeans(split.threshold + 1);
+    if (inner.threshold < 0) break;
+    split = inner;
   }
+  if (split.threshold < 0) return SetNoEstimate(out, Reason::kNoBrightCluster);
+  const int threshold = split.threshold;
+  const double c_dark = split.dark, c_bright = split.bright;
   const std::uint32_t n_bright = count[256] - count[threshold + 1];
-  if (n_bright == 0 || c_bright - c_dark < options_.bright_min_separation)
+  if (n_bright == 0 || c_bright - c_dark < options_.bright_min_separation ||
+      n_bright > options_.bright_max_fraction * rows * kW)
     return SetNoEstimate(out, Reason::kNoBrightCluster);
-  if (n_bright > options_.bright_max_fraction * rows * kW) return SetNoEstimate(out, Reason::kNoBrightCluster);
   std::uint32_t per_column[kW] = {};
   for (int v = 0; v < rows; ++v)
     for (int u = 0; u < kW; ++u) per_column[u] += p[v * kW + u] > threshold;

@@ -8,18 +8,14 @@
 #include "squint/core/error.hpp"
 
 namespace squint::corridor {
-namespace {
-
-const std::array<double, kNLogNTableSize>& NLogNTable() {
+const double* NLogNTable() {
   static const std::array<double, kNLogNTableSize> table = [] {
     std::array<double, kNLogNTableSize> t{};
     for (int n = 1; n < kNLogNTableSize; ++n) t[n] = n * std::log(static_cast<double>(n));
     return t;
   }();
-  return table;
+  return table.data();
 }
-
-}  // namespace
 
 double NLogN(std::uint32_t n) {
   if (n < static_cast<std::uint32_t>(kNLogNTableSize)) return NLogNTable()[n];
@@ -29,7 +25,7 @@ double NLogN(std::uint32_t n) {
 
 double EntropyFromCounts(const std::uint32_t* counts, int bins, std::uint32_t total) {
   if (total == 0) return 0.0;
-  const auto& table = NLogNTable();
+  const double* table = NLogNTable();
   double sum = 0.0;
   for (int i = 0; i < bins; ++i) {
     const std::uint32_t c = counts[i];

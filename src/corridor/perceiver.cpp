@@ -134,8 +134,9 @@ PerceptionResult Perceiver::ProcessGlance(const Glance& glance, std::optional<do
 }
 
 void Perceiver::Fuse(PerceptionResult& result) const {
-  // Heading: weighted median of the available cues, then the weighted mean of those within
-  // agreement_deg of it (a consensus), so one cue peaking on a lit wall cannot drag the answer.
+  // Heading: the cue estimate with the most weight within agreement_deg of it, then the weighted
+  // mean of those within agreement_deg (a consensus), so that one cue peaking on a lit wall
+  // cannot drag the answer.
   struct Candidate {
     double deg;
     double weight;
@@ -152,19 +153,16 @@ void Perceiver::Fuse(PerceptionResult& result) const {
     total += w;
   }
   if (n > 0 && total > 0.0) {
-    // Insertion sort by degrees (at most five; also keeps GCC's bounds analysis quiet).
-    for (int k = 1; k < n; ++k)
-      for (int m = k; m > 0 && c[m].deg < c[m - 1].deg; --m) std::swap(c[m], c[m - 1]);
-    double acc = 0.0, median = c[0].deg;
+    // The candidate with the most weight within agreement_deg of it (ties: the first).
+    int centre = 0;
+    double best_support = -1.0;
     for (int k = 0; k < n; ++k) {
-      acc += c[k].weight;
-      if (acc >= 0.5 * total) {
-        median = c[k].deg;
-        // Between two cues when the weight splits exactly.
-        if (acc == 0.5 * total && k + 1 < n) median = 0.5 * (c[k].deg + c[k + 1].deg);
-        break;
-      }
+      double support = 0.0;
+      for (int m = 0; m < n; ++m)
+        if (std::abs(c[m].deg - c[k].deg) <= options_.heading.agreement_deg) support += c[m].weight;
+      if (support > best_support) best_support = support, centre = k;
     }
+    const double median = c[centre].deg;
     double sw = 0.0, swd = 0.0;
     for (int k = 0; k < n; ++k) {
       if (std::abs(c[k].deg - median) > options_.heading.agreement_deg) continue;

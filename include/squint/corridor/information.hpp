@@ -27,6 +27,8 @@ double JeffreyDivergence(std::span<const double> p, std::span<const double> q, d
 // larger n is computed directly. Used by the glance kernels to avoid per-bin logarithms.
 inline constexpr int kNLogNTableSize = 4096;
 double NLogN(std::uint32_t n);
+// The table itself (kNLogNTableSize entries), for kernels that hoist it out of their loops.
+const double* NLogNTable();
 
 // Entropy of a histogram of counts summing to `total`, using the n·log(n) table:
 // H = log(N) - Σ n_i log n_i / N.

@@ -20,14 +20,15 @@ struct HeadingCueOptions {
 };
 
 struct HeadingOptions {
-  // Per cue, indexed by HeadingCue. Default weights follow the paper (§5.1: bright pixels and
-  // entropy most accurate); the robust fusion below matters more than the exact weights.
+  // Per cue, indexed by HeadingCue. The paper (§5.1) found bright pixels and entropy most
+  // accurate on its corridors; on the ray-traced dev corridors (../shared/data/orient-*)
+  // symmetry and the vanishing point are, and entropy is often inverted, hence these weights.
   std::array<HeadingCueOptions, kHeadingCueCount> cues = {{
-      {.weight = 1.0},   // entropy
-      {.weight = 1.0},   // symmetry
+      {.weight = 0.25},  // entropy: on the dev data it peaks on textured near walls
+      {.weight = 2.0},   // symmetry
       {.weight = 0.5},   // phase
       {.weight = 1.5},   // vanishing
-      {.weight = 1.5},   // bright
+      {.weight = 1.0},   // bright
   }};
   // Width of the vertical slice around each column for entropy (f1) and phase (f3), pixels.
   int slice_width_px = 3;
@@ -44,9 +45,10 @@ struct HeadingOptions {
   int symmetry_half_width_px = 8;
   int symmetry_min_half_width_px = 3;
   // Vanishing point (f4): grey levels quantised to 2^bits bins (3 -> 8 bins, a 64-bin joint
-  // histogram); the half-size glance is slid over this many pixels around each position.
+  // histogram). With a known camera only vanishing points within vanishing_row_margin_px glance
+  // rows of the horizon row are searched (a corridor's vanishing point lies on the horizon).
   int vanishing_bits = 3;
-  double vanishing_row_margin_px = 4.0;
+  double vanishing_row_margin_px = 1.5;
   // Vanishing points farther than this many columns outside the glance are rejected.
   double vanishing_max_outside_px = 4.0;
   // Bright pixels (f5): rows of the upper part used (fraction of the glance height, paper: the

@@ -1,0 +1,95 @@
+// Corridor perception timings: glance_full_us (all eight measures and fusion on one glance,
+// consecutive-frame measures included) and gate_us (the rapid-perception decision on a glance).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "squint/core/camera.hpp"
+#include "squint/corridor/perceiver.hpp"
+
+namespace {
+
+using namespace squint::corridor;
+
+// A synthetic 160×120 corridor-like frame: a bright far wall, darker side walls converging on a
+// vanishing point, ceiling lights, plus a little deterministic texture; `shift` moves it sideways.
+std::vector<std::uint8_t> SyntheticFrame(int shift) {
+  constexpr int w = 160, h = 120;
+  std::vector<std::uint8_t> img(w * h);
+  const double vx = 80.0 + shift, vy = 55.0;
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const double dx = u - vx, dy = v - vy;
+      double val;
+      if (std::abs(dx) < 12 && std::abs(dy) < 10) val = 200;                   // end wall
+      else if (std::abs(dy) > 0.6 * std::abs(dx)) val = dy < 0 ? 150 : 110;   // ceiling / floor
+      else val = 70 + 20 * std::sin(0.3 * dx);                                  // side walls
+      if (dy < -20 && std::abs(dx) < 4) val = 250;                             // lights
+      val += ((u * 7 + v * 13) % 11) - 5;
+      img[v * w + u] = static_cast<std::uint8_t>(std::clamp(val, 0.0, 255.0));
+    }
+  }
+  return img;
+}
+
+squint::CameraModel Camera() {
+  squint::CameraModel c;
+  c.width = 160;
+  c.height = 120;
+  c.fx = c.fy = 170.0;
+  c.cx = 79.5;
+  c.cy = 59.5;
+  c.height_m = 0.7;
+  c.pitch_deg = -3.0;
+  return c;
+}
+
+void BM_GlanceFull(benchmark::State& state) {
+  CorridorOptions options;
+  options.gate.enabled = false;
+  options.distance.speed_mps = 0.4;
+  Perceiver perceiver(options, Camera());
+  const auto a = SyntheticFrame(0), b = SyntheticFrame(2);
+  Glance ga, gb;
+  MakeGlance(squint::GrayView{a.data(), 160, 120, 160}, GlanceSampling::kPoint, ga);
+  MakeGlance(squint::GrayView{b.data(), 160, 120, 160}, GlanceSampling::kPoint, gb);
+  bool flip = false;
+  for (auto _ : state) {
+    PerceptionResult r = perceiver.ProcessGlance(flip ? ga : gb, 0.1, 0.25);
+    benchmark::DoNotOptimize(r);
+    flip = !flip;
+  }
+}
+BENCHMARK(BM_GlanceFull)->Name("glance_full_us")->Unit(benchmark::kMicrosecond);
+
+// Full frame → glance → whole-glance entropy → decision: what every frame costs when skipped.
+void BM_GlanceFromFrame(benchmark::State& state) {
+  const auto a = SyntheticFrame(0);
+  Glance g;
+  for (auto _ : state) {
+    MakeGlance(squint::GrayView{a.data(), 160, 120, 160}, GlanceSampling::kPoint, g);
+    benchmark::DoNotOptimize(g);
+  }
+}
+BENCHMARK(BM_GlanceFromFrame)->Name("glance_sample_us")->Unit(benchmark::kMicrosecond);
+
+void BM_Gate(benchmark::State& state) {
+  const auto a = SyntheticFrame(0), b = SyntheticFrame(1);
+  Glance ga, gb;
+  MakeGlance(squint::GrayView{a.data(), 160, 120, 160}, GlanceSampling::kPoint, ga);
+  MakeGlance(squint::GrayView{b.data(), 160, 120, 160}, GlanceSampling::kPoint, gb);
+  RapidPerceptionGate gate;
+  PreparedGlance prepared;
+  bool flip = false;
+  for (auto _ : state) {
+    ComputeHistogramAndEntropy(flip ? ga : gb, 6, prepared);
+    const bool process = gate.Update(prepared.entropy);
+    benchmark::DoNotOptimize(process);
+    flip = !flip;
+  }
+}
+BENCHMARK(BM_Gate)->Name("gate_us")->Unit(benchmark::kMicrosecond);
+
+}  // namespace

@@ -1,0 +1,166 @@
+// Heading cues on constructed glances whose answer is known: a symmetric, scale-invariant
+// corridor pattern with its axis at a known column (every cue within one column), a bright blob
+// at a known column, and every degenerate input (uniform frame, zero gradient, no bright cluster).
+#include "squint/corridor/heading_measures.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "squint/corridor/prepared_glance.hpp"
+
+namespace squint::corridor {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A "corridor" seen from its axis: intensity depends only on the direction from the vanishing
+// point (vx, vy), as corridor edges do, so the image is self-similar under scaling about that
+// point; cos(k·θ) with even k is mirror-symmetric about the vertical through it.
+Glance RadialCorridor(double vx, double vy, int k = 6) {
+  Glance g;
+  for (int v = 0; v < kGlanceHeight; ++v) {
+    for (int u = 0; u < kGlanceWidth; ++u) {
+      const double theta = std::atan2(v - vy, u - vx);
+      const double value = 128.0 + 100.0 * std::cos(k * theta);
+      g.At(u, v) = static_cast<std::uint8_t>(std::lround(value));
+    }
+  }
+  return g;
+}
+
+// The corridor each cue looks for, all with their axis at column `axis`: the radial pattern for
+// symmetry, phase and vanishing point; plus ceiling lights on the axis for the bright cue; and for
+// entropy the variety of depths down the corridor (§4.1.1), modelled as texture whose contrast
+// falls off symmetrically away from the axis.
+Glance CorridorFor(HeadingCue cue, double axis) {
+  if (cue == HeadingCue::kEntropy) {
+    Glance g;
+    for (int v = 0; v < kGlanceHeight; ++v) {
+      const int texture = ((v * 37 + 11) % 17) - 8;  // a fixed pseudo-random level per row
+      for (int u = 0; u < kGlanceWidth; ++u) {
+        const double contrast = std::max(0.0, 1.0 - std::abs(u - axis) / 8.0);
+        g.At(u, v) = static_cast<std::uint8_t>(std::lround(128.0 + 14.0 * contrast * texture));
+      }
+    }
+    return g;
+  }
+  Glance g = RadialCorridor(axis, 9.5);
+  if (cue == HeadingCue::kBright) {
+    for (int v = 0; v < kGlanceHeight; ++v)
+      for (int u = 0; u < kGlanceWidth; ++u) g.At(u, v) = static_cast<std::uint8_t>(g.At(u, v) * 3 / 4);
+    for (int v : {1, 3, 5}) g.At(static_cast<int>(axis), v) = 255;
+  }
+  return g;
+}
+
+PreparedGlance Prepare(const Glance& g, const HeadingOptions& o = {}) {
+  PreparedGlance p;
+  ComputeHistogramAndEntropy(g, 6, p);
+  PrepareMeasures(o.column_bits, o.vanishing_bits, p);
+  return p;
+}
+
+class EveryHeadingCue : public ::testing::TestWithParam<HeadingCue> {};
+
+// The axis lies on a pixel-centre column; a one-column tolerance is the measures' resolution.
+TEST_P(EveryHeadingCue, FindsTheAxisOfASymmetricCorridor) {
+  for (double axis : {10.0, 15.0, 19.0}) {
+    HeadingOptions options;
+    const auto measure = MakeHeadingMeasure(GetParam(), options);
+    HeadingMeasureResult r;
+    measure->Measure(Prepare(CorridorFor(GetParam(), axis)), r);
+    ASSERT_TRUE(r.column_px.has_value()) << CueName(GetParam()) << " axis " << axis << ": " << ReasonText(r.reason);
+    EXPECT_NEAR(*r.column_px, axis, 1.0) << CueName(GetParam());
+    EXPECT_EQ(r.reason, Reason::kNone);
+    EXPECT_GT(r.confidence, 0.0);
+  }
+}
+
+TEST_P(EveryHeadingCue, UniformFrameGivesNoEstimate) {
+  Glance g;
+  g.pixels.fill(97);
+  const auto measure = MakeHeadingMeasure(GetParam(), HeadingOptions{});
+  HeadingMeasureResult r;
+  measure->Measure(Prepare(g), r);
+  EXPECT_FALSE(r.column_px.has_value());
+  EXPECT_NE(r.reason, Reason::kNone);
+  for (float c : r.curve) EXPECT_TRUE(std::isfinite(c));
+}
+
+INSTANTIATE_TEST_SUITE_P(Cues, EveryHeadingCue,
+                         ::testing::Values(HeadingCue::kEntropy, HeadingCue::kSymmetry, HeadingCue::kPhase,
+                                           HeadingCue::kVanishing, HeadingCue::kBright),
+                         [](const auto& info) { return std::string(CueName(info.param)); });
+
+TEST(BrightHeading, FindsABlobAtAKnownColumn) {
+  for (int centre : {4, 12, 23}) {
+    Glance g;
+    g.pixels.fill(60);
+    // A 3-wide bright blob in the upper rows, centred on `centre`.
+    for (int v = 2; v < 6; ++v)
+      for (int u = centre - 1; u <= centre + 1; ++u) g.At(u, v) = 250;
+    // Darker texture elsewhere so the k-means split has two real clusters.
+    for (int v = 0; v < kGlanceHeight; ++v)
+      for (int u = 0; u < kGlanceWidth; ++u)
+        if ((u + v) % 5 == 0 && g.At(u, v) != 250) g.At(u, v) = 90;
+    BrightHeading bright(HeadingOptions{});
+    HeadingMeasureResult r;
+    bright.Measure(Prepare(g), r);
+    ASSERT_TRUE(r.column_px.has_value()) << ReasonText(r.reason);
+    EXPECT_NEAR(*r.column_px, centre, 0.5);
+    EXPECT_EQ(r.curve[centre], 4.0f);  // four bright rows in that column
+    EXPECT_EQ(r.curve[centre + 3], 0.0f);
+  }
+}
+
+TEST(BrightHeading, TwoLevelsTooCloseAreNoBrightCluster) {
+  Glance g;
+  for (int i = 0; i < kGlancePixels; ++i) g.pixels[i] = static_cast<std::uint8_t>(100 + (i % 3));  // 100..102
+  BrightHeading bright(HeadingOptions{});
+  HeadingMeasureResult r;
+  bright.Measure(Prepare(g), r);
+  EXPECT_FALSE(r.column_px.has_value());
+  EXPECT_EQ(r.reason, Reason::kNoBrightCluster);
+}
+
+TEST(PhaseHeading, HorizontalStripesHaveNoUsableGradient) {
+  // Only horizontal edges: every gradient is vertical, whose phase ±90° is ambiguous.
+  Glance g;
+  for (int v = 0; v < kGlanceHeight; ++v)
+    for (int u = 0; u < kGlanceWidth; ++u) g.At(u, v) = (v / 3) % 2 ? 200 : 40;
+  PhaseHeading phase(HeadingOptions{});
+  HeadingMeasureResult r;
+  phase.Measure(Prepare(g), r);
+  EXPECT_FALSE(r.column_px.has_value());
+  EXPECT_EQ(r.reason, Reason::kZeroGradient);
+}
+
+TEST(PhaseHeading, WeakGradientBelowThresholdIsZeroGradient) {
+  // A ramp of one grey level per 4 columns: Sobel magnitude far below phase_min_gradient.
+  Glance g;
+  for (int v = 0; v < kGlanceHeight; ++v)
+    for (int u = 0; u < kGlanceWidth; ++u) g.At(u, v) = static_cast<std::uint8_t>(100 + u / 4);
+  PhaseHeading phase(HeadingOptions{});
+  HeadingMeasureResult r;
+  phase.Measure(Prepare(g), r);
+  EXPECT_EQ(r.reason, Reason::kZeroGradient);
+}
+
+TEST(EntropyHeading, PeakInTheBorderColumnIsRejected) {
+  // Only the leftmost column varies: the entropy maximum sits on the glance edge.
+  Glance g;
+  g.pixels.fill(50);
+  for (int v = 0; v < kGlanceHeight; ++v) g.At(0, v) = static_cast<std::uint8_t>(v * 10);
+  EntropyHeading entropy(HeadingOptions{});
+  HeadingMeasureResult r;
+  entropy.Measure(Prepare(g), r);
+  EXPECT_FALSE(r.column_px.has_value());
+  EXPECT_EQ(r.reason, Reason::kPeakAtBorder);
+}
+
+}  // namespace
+}  // namespace squint::corridor
