@@ -1,0 +1,93 @@
+// The corridor options YAML (`--calib`): round trip of every member, partial files over defaults,
+// and one clear error for unknown keys, wrong types and invalid values.
+#include "squint/config/corridor_yaml.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "squint/core/error.hpp"
+
+namespace squint::config {
+namespace {
+
+using corridor::CorridorOptions;
+
+TEST(CorridorYaml, RoundTripKeepsEveryMember) {
+  CorridorOptions o;
+  o.sampling = corridor::GlanceSampling::kArea;
+  o.heading.cues[3].weight = 0.123456789;
+  o.heading.cues[4].scale = 1.1;
+  o.heading.cues[0].bias_deg = -2.5;
+  o.heading.cues[2].enabled = false;
+  o.heading.slice_width_px = 5;
+  o.heading.agreement_deg = 7.25;
+  o.heading.max_abs_heading_deg = 33.0;
+  o.distance.weights = {3.0, 0.5, 0.25};
+  o.distance.enabled[1] = false;
+  o.distance.alpha2 = 123.5;
+  o.distance.beta2 = 17.0;
+  o.distance.alpha3 = 0.07;
+  o.distance.ttc_scale = 0.9;
+  o.distance.ttc_bias_m = 0.3;
+  o.distance.min_m = 0.2;
+  o.distance.max_m = 40.0;
+  o.gate.threshold = 0.02;
+  o.gate.enabled = false;
+  const std::string text = CorridorOptionsToYaml(o);
+  const CorridorOptions back = CorridorOptionsFromYaml(text, "test.yaml");
+  EXPECT_EQ(CorridorOptionsToYaml(back), text);
+  EXPECT_EQ(back.sampling, o.sampling);
+  EXPECT_EQ(back.heading.cues[3].weight, o.heading.cues[3].weight);
+  EXPECT_EQ(back.heading.cues[4].scale, 1.1);
+  EXPECT_EQ(back.heading.cues[0].bias_deg, -2.5);
+  EXPECT_FALSE(back.heading.cues[2].enabled);
+  EXPECT_EQ(back.heading.slice_width_px, 5);
+  EXPECT_EQ(back.distance.weights, o.distance.weights);
+  EXPECT_EQ(back.distance.enabled, o.distance.enabled);
+  EXPECT_EQ(back.distance.alpha2, 123.5);
+  EXPECT_EQ(back.distance.max_m, 40.0);
+  EXPECT_EQ(back.gate.threshold, 0.02);
+  EXPECT_FALSE(back.gate.enabled);
+}
+
+TEST(CorridorYaml, PartialFileKeepsDefaults) {
+  const CorridorOptions o = CorridorOptionsFromYaml("heading:\n  cues:\n    bright: {bias_deg: 1.5}\n", "p.yaml");
+  const CorridorOptions d;
+  EXPECT_EQ(o.heading.cues[4].bias_deg, 1.5);
+  EXPECT_EQ(o.heading.cues[4].weight, d.heading.cues[4].weight);
+  EXPECT_EQ(o.distance.alpha2, d.distance.alpha2);
+  EXPECT_EQ(CorridorOptionsToYaml(CorridorOptionsFromYaml("", "empty.yaml")), CorridorOptionsToYaml(d));
+}
+
+TEST(CorridorYaml, BadInputIsOneClearError) {
+  auto message = [](const std::string& text) {
+    try {
+      CorridorOptionsFromYaml(text, "calib.yaml");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("heading: {slice_widht_px: 3}").find("unknown key 'heading.slice_widht_px'"), std::string::npos);
+  EXPECT_NE(message("distance: {alpha2: abc}").find("'distance.alpha2' has a value of the wrong type"), std::string::npos);
+  EXPECT_NE(message("gate: {threshold: -1}").find("gate.threshold must be >= 0"), std::string::npos);
+  EXPECT_NE(message("glance: {sampling: bilinear}").find("point or area"), std::string::npos);
+  EXPECT_NE(message("heading: [1, 2").find("not valid YAML"), std::string::npos);
+  for (const std::string& m : {message("x: 1"), message("gate: {threshold: -1}")})
+    EXPECT_EQ(m.rfind("calib.yaml: ", 0), 0u) << m;
+  EXPECT_THROW(LoadCorridorOptions("/nonexistent/calib.yaml"), Error);
+}
+
+TEST(CorridorYaml, SaveAndLoadFile) {
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / "squint_corridor_yaml_test.yaml";
+  CorridorOptions o;
+  o.distance.alpha3 = 0.11;
+  SaveCorridorOptions(path, o);
+  EXPECT_EQ(LoadCorridorOptions(path).distance.alpha3, 0.11);
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace squint::config
