@@ -150,6 +150,13 @@ void World::Build() {
       if (!(f.width_m > 0) || !(f.height_m > 0)) fail(id + ": width_m and height_m must be positive");
       if (f.z_m < 0 || f.recess_m < 0) fail(id + ": z_m and recess_m must not be negative");
       if (f.z_m + f.height_m > corridors[i].height_m + 1e-9) fail(id + ": reaches above the ceiling");
+      {
+        const bool end = f.side == WallSide::kFromEnd || f.side == WallSide::kToEnd;
+        const double half_w = corridors[i].width_m / 2;
+        const double lo = end ? -half_w : -half_w, hi = end ? half_w : corridors[i].Length() + half_w;
+        if (f.at_m - f.width_m / 2 < lo - 1e-9 || f.at_m + f.width_m / 2 > hi + 1e-9)
+          fail(id + ": runs past the end of its wall");
+      }
       if (f.recess_m > 0) {
         Eigen::Vector2d centre = Eigen::Vector2d::Zero(), n = Eigen::Vector2d::Zero(), along = Eigen::Vector2d::Zero();
         feature_frame(corridors[i], f, &centre, &n, &along);

@@ -1,0 +1,180 @@
+// Renderer geometry and determinism: floor ranges against the camera model's analytic floor
+// point, wall and obstacle ranges against known distances, labels consistent with range, and
+// noise keyed by seed and frame.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "squint/core/angles.hpp"
+#include "squint/core/error.hpp"
+#include "squint/sim/renderer.hpp"
+#include "squint/sim/world.hpp"
+
+namespace squint::sim {
+namespace {
+
+RenderOptions Exact() {
+  RenderOptions o;
+  o.supersample = 1;
+  o.noise_sigma = 0.0;
+  return o;
+}
+
+// An odd-sized camera so that the centre pixel's ray is the optical axis.
+CameraModel Camera(double pitch_deg, double height_m = 0.5) {
+  CameraMount m;
+  m.width = 41;
+  m.height = 31;
+  m.hfov_deg = 60;
+  m.pitch_deg = pitch_deg;
+  m.height_m = height_m;
+  return m.Model();
+}
+
+World Hall() {
+  return ParseWorld(
+      "format: squint-world/1\n"
+      "corridors: [{from: [0, 0], to: [60, 0], width_m: 30, height_m: 3}]\n"
+      "robot: {start: [5, 0, 0]}\n",
+      "hall.yaml");
+}
+
+TEST(Renderer, FloorPixelsMeetTheFloorAtTheAnalyticDistance) {
+  const World w = Hall();
+  for (double pitch : {-5.0, -12.0}) {
+    const CameraModel cam = Camera(pitch);
+    Renderer r(w, cam, Exact());
+    cv::Mat label, range;
+    r.Render({5, 0, DegToRad(7)}, &label, &range);
+    int checked = 0;
+    for (int v = 0; v < cam.height; ++v)
+      for (int u = 0; u < cam.width; ++u) {
+        const auto fp = cam.FloorPoint({u, v});
+        if (!fp || fp->norm() > 20) continue;  // within the hall
+        const double expect = std::sqrt(fp->squaredNorm() + cam.height_m * cam.height_m);
+        EXPECT_EQ(label.at<std::uint8_t>(v, u), kLabelFloor) << u << "," << v;
+        EXPECT_NEAR(range.at<float>(v, u), expect, 1e-5 * expect) << u << "," << v;
+        ++checked;
+      }
+    EXPECT_GT(checked, 200);
+  }
+}
+
+TEST(Renderer, OpticalAxisMeetsTheEndWallAtItsDistance) {
+  const World w = ParseWorld(
+      "format: squint-world/1\ncorridors: [{from: [0, 0], to: [20, 0], width_m: 3, height_m: 3}]\n", "end.yaml");
+  const CameraModel cam = Camera(0.0, 1.0);
+  Renderer r(w, cam, Exact());
+  cv::Mat label, range;
+  // End wall at x = 21.5; robot at x = 4, y = 0.2, facing it.
+  r.Render({4, 0.2, 0}, &label, &range);
+  EXPECT_NEAR(range.at<float>(15, 20), 17.5, 1e-5);
+  EXPECT_EQ(label.at<std::uint8_t>(15, 20), kLabelStanding);
+  // Turned by 3 degrees the axis meets the same wall (at y = 1.12) 17.5 / cos(3) away.
+  r.Render({4, 0.2, DegToRad(3)}, &label, &range);
+  EXPECT_NEAR(range.at<float>(15, 20), 17.5 / std::cos(DegToRad(3)), 1e-4);
+}
+
+TEST(Renderer, BoxInFrontIsSeenAtItsFaceDistance) {
+  const World w = ParseWorld(
+      "format: squint-world/1\ncorridors: [{from: [0, 0], to: [20, 0], width_m: 4, height_m: 3}]\n"
+      "obstacles: [{type: box, at: [6, 0], size: [0.4, 1.0, 1.5]}]\n",
+      "box.yaml");
+  const CameraModel cam = Camera(0.0, 1.0);
+  Renderer r(w, cam, Exact());
+  cv::Mat label, range;
+  r.Render({2, 0, 0}, &label, &range);
+  EXPECT_NEAR(range.at<float>(15, 20), 3.8, 1e-5);  // face at x = 5.8
+  EXPECT_EQ(label.at<std::uint8_t>(15, 20), kLabelStanding);
+}
+
+TEST(Renderer, LabelsAgreeWithRangeEverywhere) {
+  for (const char* name : {"obstacle-course", "default", "corridor-9"}) {
+    const World w = LoadWorld(name);
+    const CameraModel cam = w.camera.Model();
+    RenderOptions o;
+    o.supersample = 2;
+    Renderer r(w, cam, o);
+    cv::Mat label, range;
+    r.Render(w.start, &label, &range);
+    int floor = 0, standing = 0;
+    for (int v = 0; v < cam.height; ++v)
+      for (int u = 0; u < cam.width; ++u) {
+        const Eigen::Vector3d p = cam.RobotCameraCentre() + cam.PixelRayRobot({u, v}) * range.at<float>(v, u);
+        ASSERT_TRUE(std::isfinite(p.z()));
+        if (label.at<std::uint8_t>(v, u) == kLabelFloor) {
+          EXPECT_NEAR(p.z(), 0.0, 1e-4) << name << " " << u << "," << v;
+          ++floor;
+        } else {
+          // Something standing: above the floor, and met before the floor would be.
+          const Eigen::Vector3d d = cam.PixelRayRobot({u, v});
+          const double floor_range = d.z() < 0 ? cam.height_m / -d.z() : 1e30;
+          EXPECT_GT(p.z(), -1e-4) << name << " " << u << "," << v;
+          EXPECT_LT(range.at<float>(v, u), floor_range * (1 + 1e-6)) << name << " " << u << "," << v;
+          ++standing;
+        }
+      }
+    EXPECT_GT(floor, cam.width * cam.height / 10) << name;
+    EXPECT_GT(standing, cam.width * cam.height / 10) << name;
+  }
+}
+
+TEST(Renderer, ObstacleCourseShowsObstaclesStandingOnTheFloor) {
+  const World w = LoadWorld("obstacle-course");
+  const CameraModel cam = w.camera.Model();
+  Renderer r(w, cam, Exact());
+  cv::Mat label;
+  r.Render(w.start, &label);
+  // The box at (3.5, 0.9) (0.5 high) stands 2.5 m ahead, left: project its front-bottom centre.
+  const auto px = cam.Project({3.5 - 0.25 - 1.0, 0.9, 0.2});
+  ASSERT_TRUE(px);
+  EXPECT_EQ(label.at<std::uint8_t>(static_cast<int>(std::lround(px->y())), static_cast<int>(std::lround(px->x()))),
+            kLabelStanding);
+  // The paper sheet at (2.5, -0.3) is floor.
+  const auto pp = cam.Project({2.5 - 1.0, -0.3, 0.0});
+  ASSERT_TRUE(pp);
+  EXPECT_EQ(label.at<std::uint8_t>(static_cast<int>(std::lround(pp->y())), static_cast<int>(std::lround(pp->x()))),
+            kLabelFloor);
+}
+
+TEST(Renderer, DeterministicPerSeedAndFrame) {
+  const World w = LoadWorld("corridor-0");
+  RenderOptions o;
+  o.noise_sigma = 3.0;
+  o.seed = 5;
+  Renderer a(w, w.camera.Model().Scaled(64, 48), o), b(w, w.camera.Model().Scaled(64, 48), o);
+  const cv::Mat ia = a.Render(w.start, nullptr, nullptr, 3), ib = b.Render(w.start, nullptr, nullptr, 3);
+  EXPECT_EQ(cv::norm(ia, ib, cv::NORM_INF), 0.0);
+  const cv::Mat next = a.Render(w.start, nullptr, nullptr, 4);
+  EXPECT_GT(cv::norm(ia, next, cv::NORM_L1), 0.0);
+  o.seed = 6;
+  Renderer c(w, w.camera.Model().Scaled(64, 48), o);
+  EXPECT_GT(cv::norm(ia, c.Render(w.start, nullptr, nullptr, 3), cv::NORM_L1), 0.0);
+}
+
+TEST(Renderer, LightsAreTheBrightestAndTheImageIsNotFlat) {
+  for (const std::string& name : BuiltinWorldNames()) {
+    const World w = LoadWorld(name);
+    Renderer r(w, w.camera.Model().Scaled(32, 24), RenderOptions{});
+    const cv::Mat img = r.Render(w.start);
+    double lo, hi;
+    cv::minMaxLoc(img, &lo, &hi);
+    EXPECT_GE(hi - lo, 60) << name;
+    cv::Scalar mean, sd;
+    cv::meanStdDev(img, mean, sd);
+    EXPECT_GT(sd[0], 10) << name;
+  }
+}
+
+TEST(Renderer, BadOptionsAreRejected) {
+  const World w = Hall();
+  RenderOptions o;
+  o.supersample = 0;
+  EXPECT_THROW(Renderer(w, Camera(0), o), Error);
+  CameraModel bad = Camera(0);
+  bad.fx = 0;
+  EXPECT_THROW(Renderer(w, bad, RenderOptions{}), Error);
+}
+
+}  // namespace
+}  // namespace squint::sim
