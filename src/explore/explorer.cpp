@@ -3,6 +3,7 @@
 #include "squint/explore/explorer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -41,6 +42,13 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(max_centre_correction_deg)) return "max_centre_correction_deg must be >= 0";
   if (!Positive(end_stop_dist_m)) return "end_stop_dist_m must be positive";
   if (end_confirm_frames < 1) return "end_confirm_frames must be >= 1";
+  if (end_median_frames < 1) return "end_median_frames must be >= 1";
+  if (!(end_entropy_ratio >= 0.0 && end_entropy_ratio < 1.0)) return "end_entropy_ratio must be in [0, 1)";
+  if (!(reference_percentile >= 0.0 && reference_percentile <= 1.0)) return "reference_percentile must be in [0, 1]";
+  if (axis_reacquire_frames < 1) return "axis_reacquire_frames must be >= 1";
+  if (align_frames < 1) return "align_frames must be >= 1";
+  if (!Positive(align_done_deg)) return "align_done_deg must be positive";
+  if (align_rounds < 0) return "align_rounds must be >= 0";
   if (!NonNegative(min_travel_before_end_m)) return "min_travel_before_end_m must be >= 0";
   if (!Positive(turn_rate_rps)) return "turn_rate_rps must be positive";
   if (!Positive(turn_tolerance_deg)) return "turn_tolerance_deg must be positive";
@@ -49,6 +57,7 @@ std::string ExplorerOptions::Validate() const {
   if (!(open_entropy_ratio > 0.0 && open_entropy_ratio <= 2.0)) return "open_entropy_ratio must be in (0, 2]";
   if (reference_window < 1) return "reference_window must be >= 1";
   if (scan_bins < 8) return "scan_bins must be >= 8";
+  if (!Positive(scan_rate_rps)) return "scan_rate_rps must be positive";
   if (!Positive(stall_window_s)) return "stall_window_s must be positive";
   if (!NonNegative(stall_min_progress_m)) return "stall_min_progress_m must be >= 0";
   if (!NonNegative(avoid_gain)) return "avoid_gain must be >= 0";
@@ -64,6 +73,7 @@ const char* StateName(ExploreState s) {
     case ExploreState::kProbe: return "probe";
     case ExploreState::kTurn: return "turn";
     case ExploreState::kBackOff: return "backoff";
+    case ExploreState::kAlign: return "align";
   }
   return "?";
 }
@@ -96,6 +106,7 @@ Command Explorer::Step(const Percept& p) {
     scan_prev_yaw_ = p.odom_T_robot.yaw;
     map_yaw_offset_ = p.odom_T_robot.yaw;
     axis_yaw_odom_ = p.odom_T_robot.yaw;
+    state_ = ExploreState::kAlign;  // look first; scan only when the view is not a corridor
   }
   UpdateMapPose(p);
   switch (state_) {
@@ -104,6 +115,7 @@ Command Explorer::Step(const Percept& p) {
     case ExploreState::kProbe: return ProbeStep(p);
     case ExploreState::kTurn: return TurnStep(p);
     case ExploreState::kBackOff: return BackOffStep(p);
+    case ExploreState::kAlign: return AlignStep(p);
   }
   return {};
 }
@@ -144,40 +156,142 @@ Command Explorer::ScanStep(const Percept& p) {
     const double rel = WrapPi(p.odom_T_robot.yaw - scan_start_yaw_);
     const double u = (rel < 0 ? rel + 2 * kPi : rel) / (2 * kPi);
     const int b = std::clamp(static_cast<int>(u * bins), 0, bins - 1);
-    if (p.glance_entropy_bits) {
-      scan_sum_[b] += *p.glance_entropy_bits;
+    if (p.glance_entropy_nats) {
+      scan_sum_[b] += *p.glance_entropy_nats;
       ++scan_count_[b];
+    }
+    if (p.processed && p.heading_deg) {
+      const double a = std::fmod(p.odom_T_robot.yaw - DegToRad(*p.heading_deg) + 8 * kPi, kPi / 2);
+      scan_axis_mod90_.push_back(a);
     }
     // Progress of the full turn from the yaw travelled (odometry).
     scan_turned_ += std::abs(WrapPi(p.odom_T_robot.yaw - scan_prev_yaw_));
     scan_prev_yaw_ = p.odom_T_robot.yaw;
-    if (scan_turned_ < 2 * kPi + DegToRad(360.0 / bins)) return {0.0, 0.7 * opt_.turn_rate_rps};
-    // Circularly smoothed mean entropy per bin; the robot sets off toward the maximum.
-    double best = -1.0;
-    int best_b = 0;
-    for (int i = 0; i < bins; ++i) {
+    if (scan_turned_ < 2 * kPi + DegToRad(360.0 / bins)) return {0.0, opt_.scan_rate_rps};
+    // Mean glance entropy around a yaw (circular window of ±1 bin).
+    auto entropy_at = [&](double yaw) {
+      const double rel = WrapPi(yaw - scan_start_yaw_);
+      const int c = static_cast<int>(std::floor((rel < 0 ? rel + 2 * kPi : rel) / (2 * kPi) * bins)) % bins;
       double s = 0.0;
       int n = 0;
       for (int k = -1; k <= 1; ++k) {
-        const int j = (i + k + bins) % bins;
+        const int j = (c + k + bins) % bins;
         s += scan_sum_[j];
         n += scan_count_[j];
       }
-      if (n > 0 && s / n > best) {
-        best = s / n;
-        best_b = i;
+      return n > 0 ? s / n : -1.0;
+    };
+    // The Manhattan axis modulo 90°: the mode of the candidates (2° bins, ±2 bins smoothing).
+    double axis_mod = 0.0;
+    bool have_axis = scan_axis_mod90_.size() >= 5;
+    if (have_axis) {
+      constexpr int kBins = 45;
+      std::array<double, kBins> hist{};
+      for (double a : scan_axis_mod90_) hist[static_cast<std::size_t>(std::clamp(static_cast<int>(a / (kPi / 2) * kBins), 0, kBins - 1))] += 1.0;
+      int best_i = 0;
+      double best_v = -1.0;
+      for (int i = 0; i < kBins; ++i) {
+        double v = 0.0;
+        for (int k = -2; k <= 2; ++k) v += hist[static_cast<std::size_t>((i + k + kBins) % kBins)] * (k == 0 ? 1.0 : 0.5);
+        if (v > best_v) {
+          best_v = v;
+          best_i = i;
+        }
+      }
+      // Refine: circular mean of the candidates within ±4° of the mode (period 90°).
+      const double centre = (best_i + 0.5) * (kPi / 2) / kBins;
+      double sx = 0.0, sy = 0.0;
+      for (double a : scan_axis_mod90_) {
+        if (std::abs(WrapPi(4.0 * (a - centre))) / 4.0 > DegToRad(4.0)) continue;
+        sx += std::cos(4.0 * a);
+        sy += std::sin(4.0 * a);
+      }
+      axis_mod = (sx != 0.0 || sy != 0.0) ? std::atan2(sy, sx) / 4.0 : centre;
+    }
+    double best = -1.0;
+    double best_yaw = scan_start_yaw_;
+    if (have_axis) {
+      for (int k = 0; k < 4; ++k) {
+        const double yaw = WrapPi(axis_mod + k * kPi / 2);
+        const double h = entropy_at(yaw);
+        if (h > best) {
+          best = h;
+          best_yaw = yaw;
+        }
+      }
+    } else {
+      for (int i = 0; i < bins; ++i) {
+        const double yaw = WrapPi(scan_start_yaw_ + (i + 0.5) * 2 * kPi / bins);
+        const double h = entropy_at(yaw);
+        if (h > best) {
+          best = h;
+          best_yaw = yaw;
+        }
       }
     }
     scan_rotating_ = false;
     last_ref_entropy_ = std::max(best, 0.0);
-    scan_final_ = Rotation{WrapPi(scan_start_yaw_ + (best_b + 0.5) * 2 * kPi / bins), 0};
+    scan_final_ = Rotation{best_yaw, 0};
   }
   Command cmd;
   if (!Rotate(p, scan_final_, cmd)) return cmd;
-  axis_yaw_odom_ = scan_final_.target_yaw;
+  state_ = ExploreState::kAlign;
+  align_samples_.clear();
+  align_round_ = 0;
+  align_rotating_ = false;
+  return {};
+}
+
+// --- Align: stand still, read the fused heading, rotate it away ---------------------------------
+
+Command Explorer::AlignStep(const Percept& p) {
+  Command cmd;
+  if (align_rotating_) {
+    if (!Rotate(p, align_rot_, cmd)) return cmd;
+    align_rotating_ = false;
+    align_samples_.clear();
+    return {};
+  }
+  if (p.processed && p.heading_deg) align_samples_.push_back(*p.heading_deg);
+  if (!start_checked_ && p.glance_entropy_nats) {
+    start_entropy_sum_ += *p.glance_entropy_nats;
+    ++start_entropy_n_;
+  }
+  const bool enough = static_cast<int>(align_samples_.size()) >= opt_.align_frames;
+  if (!start_checked_ && !enough && start_entropy_n_ < 3 * opt_.align_frames) return {};
+  if (!enough && start_checked_ && align_round_ < opt_.align_rounds) return {};
+  double median = 0.0;
+  double spread = 0.0;
+  if (!align_samples_.empty()) {
+    std::vector<double> v = align_samples_;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    median = v[v.size() / 2];
+    for (double& x : v) x = std::abs(x - median);
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    spread = v[v.size() / 2];
+  }
+  if (!start_checked_) {
+    start_checked_ = true;
+    const double mean_entropy = start_entropy_n_ > 0 ? start_entropy_sum_ / start_entropy_n_ : 0.0;
+    if (!enough || mean_entropy < opt_.start_corridor_entropy_nats || spread > opt_.start_max_spread_deg ||
+        std::abs(median) > opt_.axis_outlier_deg) {
+      state_ = ExploreState::kScan;  // not a corridor view: turn around in place and look
+      align_samples_.clear();
+      return {};
+    }
+    last_ref_entropy_ = mean_entropy;
+  }
+  if (align_round_ < opt_.align_rounds && std::abs(median) > opt_.align_done_deg) {
+    ++align_round_;
+    align_rot_ = Rotation{WrapPi(p.odom_T_robot.yaw - DegToRad(median)), 0};
+    align_rotating_ = true;
+    return {};
+  }
+  axis_yaw_odom_ = WrapPi(p.odom_T_robot.yaw - DegToRad(median));
   map_yaw_offset_ = axis_yaw_odom_;
   dir_ = 0;
-  Emit(ExploreEvent::Kind::kScanDone, p, 0, Format("set off at odometry yaw %.0f deg", RadToDeg(axis_yaw_odom_)));
+  Emit(ExploreEvent::Kind::kScanDone, p, 0,
+       Format("set off at odometry yaw %.0f deg after %d alignment rounds", RadToDeg(axis_yaw_odom_), align_round_));
   StartFollow(p);
   return {};
 }
@@ -189,6 +303,9 @@ void Explorer::StartFollow(const Percept&) {
   end_count_ = 0;
   travel_in_corridor_m_ = 0.0;
   dist_end_m_ = -1.0;
+  dist_hist_.clear();
+  entropy_low_count_ = 0;
+  outlier_axes_.clear();
   lateral_cue_deg_ = 0.0;
   lateral_valid_ = false;
   ref_entropy_.clear();
@@ -201,7 +318,17 @@ void Explorer::UpdateAxis(const Percept& p) {
   if (!p.processed || !p.heading_deg) return;
   const double measured_axis = p.odom_T_robot.yaw - DegToRad(*p.heading_deg);
   const double innovation = WrapPi(measured_axis - axis_yaw_odom_);
-  if (std::abs(innovation) > DegToRad(opt_.axis_outlier_deg)) return;
+  if (std::abs(innovation) > DegToRad(opt_.axis_outlier_deg)) {
+    outlier_axes_.push_back(innovation);
+    if (static_cast<int>(outlier_axes_.size()) >= opt_.axis_reacquire_frames) {
+      std::nth_element(outlier_axes_.begin(), outlier_axes_.begin() + static_cast<std::ptrdiff_t>(outlier_axes_.size() / 2), outlier_axes_.end());
+      axis_yaw_odom_ = WrapPi(axis_yaw_odom_ + outlier_axes_[outlier_axes_.size() / 2]);
+      map_yaw_offset_ = WrapPi(axis_yaw_odom_ - YawOfDirection(dir_));
+      outlier_axes_.clear();
+    }
+    return;
+  }
+  outlier_axes_.clear();
   axis_yaw_odom_ = WrapPi(axis_yaw_odom_ + opt_.axis_gain * innovation);
   map_yaw_offset_ = WrapPi(axis_yaw_odom_ - YawOfDirection(dir_));
 }
@@ -209,8 +336,9 @@ void Explorer::UpdateAxis(const Percept& p) {
 double Explorer::ReferenceEntropy() const {
   if (ref_entropy_.size() < 8) return last_ref_entropy_;
   std::vector<double> v = ref_entropy_;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
+  const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(opt_.reference_percentile * static_cast<double>(v.size())));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
 }
 
 Command Explorer::FollowStep(const Percept& p) {
@@ -222,27 +350,40 @@ Command Explorer::FollowStep(const Percept& p) {
   }
   // Reference entropy: looking down this corridor, sampled every ~0.15 m so the approach to the
   // end does not dominate.
-  if (p.glance_entropy_bits && dist_end_m_ != 0.0) {
+  if (p.glance_entropy_nats && dist_end_m_ != 0.0) {
     const double sample_every_m = 0.15;
     if (ref_entropy_.empty() || travel_in_corridor_m_ >= sample_every_m * static_cast<double>(ref_next_ + 1)) {
       const std::size_t cap = static_cast<std::size_t>(opt_.reference_window);
-      if (ref_entropy_.size() < cap) ref_entropy_.push_back(*p.glance_entropy_bits);
-      else ref_entropy_[static_cast<std::size_t>(ref_next_) % cap] = *p.glance_entropy_bits;
+      if (ref_entropy_.size() < cap) ref_entropy_.push_back(*p.glance_entropy_nats);
+      else ref_entropy_[static_cast<std::size_t>(ref_next_) % cap] = *p.glance_entropy_nats;
       ++ref_next_;
     }
   }
-  // The end of the corridor from the fused distance.
+  // The end of the corridor: (a) the fused distance, median of the last processed frames.
+  const bool may_end = travel_in_corridor_m_ >= opt_.min_travel_before_end_m;
+  bool end_now = false;
   if (p.processed && p.dist_end_m) {
-    dist_end_m_ = std::max(0.0, *p.dist_end_m);
-    if (dist_end_m_ < opt_.end_stop_dist_m && travel_in_corridor_m_ >= opt_.min_travel_before_end_m) ++end_count_;
-    else end_count_ = 0;
+    dist_hist_.push_back(std::max(0.0, *p.dist_end_m));
+    if (static_cast<int>(dist_hist_.size()) > opt_.end_median_frames) dist_hist_.erase(dist_hist_.begin());
+    std::vector<double> v = dist_hist_;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    dist_end_m_ = v[v.size() / 2];
+    if (static_cast<int>(dist_hist_.size()) >= opt_.end_median_frames && dist_end_m_ < opt_.end_stop_dist_m && may_end) end_now = true;
   }
+  // (b) the glance entropy against the corridor's reference.
+  const double ref = ReferenceEntropy();
+  if (p.glance_entropy_nats && ref > 0.0 && *p.glance_entropy_nats < opt_.end_entropy_ratio * ref && may_end) ++entropy_low_count_;
+  else entropy_low_count_ = 0;
+  if (entropy_low_count_ >= opt_.end_confirm_frames) end_now = true;
+  end_count_ = end_now ? opt_.end_confirm_frames : 0;
   if (end_count_ >= opt_.end_confirm_frames) {
     ++ends_;
     last_ref_entropy_ = ReferenceEntropy();
     node_ = map_.Arrive(map_pose_.Translation(), dir_);
     map_.SetBranch(node_, dir_, Branch::kWall);
-    Emit(ExploreEvent::Kind::kEndDetected, p, 0, Format("end at %.2f m", dist_end_m_));
+    Emit(ExploreEvent::Kind::kEndDetected, p, 0,
+         Format("end: fused distance %.2f m, entropy %.2f of reference %.2f", dist_end_m_, p.glance_entropy_nats.value_or(-1.0),
+                last_ref_entropy_));
     state_ = ExploreState::kProbe;
     probe_phase_ = 0;
     look_count_ = 0;
@@ -321,8 +462,8 @@ Command Explorer::ProbeStep(const Percept& p) {
   rot_.target_yaw = WrapPi(axis_yaw_odom_ + probe_sides_[probe_phase_] * kPi / 2.0);
   Command cmd;
   if (look_count_ == 0 && !Rotate(p, rot_, cmd)) return cmd;
-  if (p.glance_entropy_bits) {
-    look_sum_ += *p.glance_entropy_bits;
+  if (p.glance_entropy_nats) {
+    look_sum_ += *p.glance_entropy_nats;
     ++look_count_;
   }
   if (look_count_ < opt_.look_frames) return {};

@@ -21,28 +21,54 @@ struct ExplorerOptions {
   double min_speed_fraction = 0.25;
   // Heading by vision, propagated by odometry: the corridor axis in the odometry frame is
   // low-pass filtered from each processed frame (axis = odom yaw − fused heading).
-  double axis_gain = 0.08;            // per processed frame
+  double axis_gain = 0.2;             // per processed frame
   double axis_outlier_deg = 20.0;     // innovations larger than this are ignored
   // Centring from the translation-sensitive cues: lateral cue = centre − fused heading.
-  double centre_gain = 1.5;           // target heading = −centre_gain · lateral cue
-  double centre_filter = 0.2;         // low-pass of the lateral cue per processed frame
-  double max_centre_correction_deg = 12.0;
-  // End of the corridor.
-  double end_stop_dist_m = 1.1;       // stop when the fused distance to the end is below this
-  int end_confirm_frames = 3;         // ... on this many consecutive processed frames
+  double centre_gain = 0.8;           // target heading = −centre_gain · lateral cue
+  double centre_filter = 0.4;         // low-pass of the lateral cue per processed frame
+  double max_centre_correction_deg = 10.0;
+  // End of the corridor, two triggers (either stops the robot):
+  // (a) the fused distance to the end, median of the last end_median_frames processed frames,
+  //     below end_stop_dist_m;
+  double end_stop_dist_m = 1.1;
+  int end_median_frames = 9;
+  // (b) the glance entropy falling below end_entropy_ratio × the corridor's reference entropy
+  //     (paper §4.2.3: entropy drops as the end wall fills the view) on end_confirm_frames
+  //     consecutive frames. In the simulator's corridors the ratio crosses 0.62 between 0.7 m
+  //     and 1.7 m from the end wall.
+  double end_entropy_ratio = 0.62;
+  int end_confirm_frames = 5;
   double min_travel_before_end_m = 0.8;  // after a turn, before an end may be detected
   // Deciding by looking (entropy rule).
   double turn_rate_rps = 1.2;         // rotating in place
   double turn_tolerance_deg = 1.5;
   int settle_frames = 4;              // frames to wait after a rotation before looking
   int look_frames = 4;                // frames whose glance entropy is averaged
-  // A side is open when its entropy reaches this fraction of the reference entropy (the median
-  // glance entropy while following the corridor just driven, i.e. looking down a corridor).
-  double open_entropy_ratio = 0.93;
-  int reference_window = 64;          // processed frames kept for the reference median
-  // Start-up scan (recovery when starting facing a wall or close to one): a full turn in place,
-  // the glance entropy binned by odometry yaw; the robot sets off toward the maximum.
+  // A side is open when its entropy reaches this fraction of the reference entropy (a high
+  // percentile of the glance entropy while following the corridor just driven, i.e. looking
+  // down a corridor).
+  double open_entropy_ratio = 0.85;
+  int reference_window = 64;          // entropy samples (one per 0.15 m) kept for the reference
+  double reference_percentile = 0.8;
+  // Start-up scan (recovery when starting facing a wall or close to one): a full turn in place.
+  // The corridor axis modulo 90° (Manhattan) is the mode of odometry yaw − fused heading over the
+  // scan's processed frames; of its four directions the robot sets off along the one whose glance
+  // entropy is highest (the paper: entropy peaks looking down the corridor).
   int scan_bins = 36;
+  double scan_rate_rps = 0.6;
+  // Axis re-acquisition: after this many consecutive outlier innovations, the axis is reset to
+  // their median (the corridor frame was lost).
+  int axis_reacquire_frames = 12;
+  // Alignment in place after the scan: take the median fused heading of align_frames fully
+  // processed frames, rotate by it, repeat until below align_done_deg (at most align_rounds).
+  int align_frames = 7;
+  double align_done_deg = 2.0;
+  int align_rounds = 4;
+  // At the start the robot first looks where it faces: when the glance entropy reaches this
+  // (a view down a corridor; views of a wall are far lower) and the fused headings agree, it
+  // aligns and sets off without the scan, which near corners can lock onto a diagonal view.
+  double start_corridor_entropy_nats = 2.7;
+  double start_max_spread_deg = 6.0;
   // Stall guard from odometry alone: commanded forward but the wheels did not move.
   double stall_window_s = 1.0;
   double stall_min_progress_m = 0.05;
@@ -60,6 +86,7 @@ enum class ExploreState {
   kProbe,    // stopped at the end: rotating to look left and right
   kTurn,     // rotating to the chosen branch
   kBackOff,  // stalled against something: reversing a little
+  kAlign,    // standing still, rotating until the fused heading reads zero (after the scan)
 };
 const char* StateName(ExploreState s);
 
@@ -90,6 +117,9 @@ class Explorer {
   // True once after every new corridor starts: the caller resets the rapid-perception gate's
   // reference entropy (paper §5.3: normalised by the first frame of the corridor).
   bool TakeGateReset();
+  // True while the explorer turns or stands in place and needs every frame fully processed (scan, alignment):
+  // the caller then resets the gate's reference before the frame (a still view never passes).
+  bool WantsFullProcessing() const { return state_ == ExploreState::kAlign || state_ == ExploreState::kScan; }
   // Vision-corrected dead reckoning (odometry translation, yaw drift removed by the corridor
   // axis estimates), in the map frame whose direction 0 is the first corridor's axis.
   const Pose2& MapPose() const { return map_pose_; }
@@ -108,6 +138,7 @@ class Explorer {
   Command ProbeStep(const Percept& p);
   Command TurnStep(const Percept& p);
   Command BackOffStep(const Percept& p);
+  Command AlignStep(const Percept& p);
   // Rotates toward target; returns true when there and settled.
   bool Rotate(const Percept& p, Rotation& r, Command& cmd) const;
   void UpdateAxis(const Percept& p);
@@ -136,6 +167,7 @@ class Explorer {
   // Follow.
   double dist_end_m_ = -1.0;
   int end_count_ = 0;
+  int entropy_low_count_ = 0;
   double travel_in_corridor_m_ = 0.0;
   std::vector<double> ref_entropy_;  // ring buffer of glance entropies while following
   int ref_next_ = 0;
@@ -147,6 +179,9 @@ class Explorer {
   double backoff_until_s_ = 0.0;
 
   // Scan.
+  std::vector<double> scan_axis_mod90_;  // candidate axis angles (rad, [0, pi/2)) from the scan
+  std::vector<double> outlier_axes_;
+  std::vector<double> dist_hist_;
   std::vector<double> scan_sum_;
   std::vector<int> scan_count_;
   double scan_turned_ = 0.0;
@@ -154,6 +189,13 @@ class Explorer {
   double scan_prev_yaw_ = 0.0;
   bool scan_rotating_ = true;
   Rotation scan_final_;
+  std::vector<double> align_samples_;
+  int align_round_ = 0;
+  bool align_rotating_ = false;
+  bool start_checked_ = false;
+  double start_entropy_sum_ = 0.0;
+  int start_entropy_n_ = 0;
+  Rotation align_rot_;
 
   // Probe and turn.
   int node_ = -1;

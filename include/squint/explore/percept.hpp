@@ -26,8 +26,8 @@ struct Percept {
   std::optional<double> heading_deg;         // fused heading relative to the corridor axis
   std::optional<double> centre_heading_deg;  // translation-sensitive cues (bright pixels, symmetry)
   std::optional<double> dist_end_m;          // fused distance to the corridor's end
-  // Whole-glance grey-level entropy (bits); the gate computes it on every frame, processed or not.
-  std::optional<double> glance_entropy_bits;
+  // Whole-glance grey-level entropy (nats); the gate computes it on every frame, processed or not.
+  std::optional<double> glance_entropy_nats;
   std::optional<ObstacleAdvice> obstacles;   // empty when the obstacle pipeline is off
 };
 

@@ -1,0 +1,104 @@
+// The closed loop: a simulated world renders the robot's camera, corridor perception turns each
+// glance into estimates, the explorer turns estimates + wheel odometry into (v, ω), the robot
+// moves. Ground truth is recorded for scoring, logs and maps only: the explorer never sees it.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "squint/core/pose.hpp"
+#include "squint/corridor/options.hpp"
+#include "squint/explore/explorer.hpp"
+#include "squint/sim/renderer.hpp"
+#include "squint/sim/robot.hpp"
+#include "squint/sim/world.hpp"
+
+namespace squint::eval {
+
+struct ExploreRunOptions {
+  double minutes = 45.0;           // simulated time budget (the paper's longest run)
+  double frame_rate_hz = 30.0;     // camera frame rate = control rate
+  std::uint64_t seed = 1;          // odometry noise and sensor noise
+  std::optional<Pose2> start;      // world_T_robot at the start; none = the world's start
+  int glance_supersample = 2;      // the 32×24 glance is rendered directly, n×n samples per pixel
+  double sensor_noise_sigma = 2.0; // grey levels
+  explore::ExplorerOptions explorer;
+  corridor::CorridorOptions perception;
+  sim::OdometryOptions odometry;   // its seed is replaced by `seed`
+  bool keep_trace = true;          // per-frame rows for trace.csv
+
+  std::string Validate() const;
+};
+
+// One control frame, for trace.csv. Estimates are NaN where absent (written as empty cells).
+struct ExploreTraceRow {
+  double t_s = 0.0;
+  Pose2 world_T_robot;  // truth (logging only)
+  Pose2 odom_T_robot;
+  bool processed = false;
+  double heading_deg = 0.0, centre_heading_deg = 0.0, dist_end_m = 0.0, entropy = 0.0;
+  double heading_est_deg = 0.0, dist_est_m = 0.0;          // the explorer's propagated estimates
+  double true_heading_deg = 0.0, true_lateral_m = 0.0, true_dist_end_m = 0.0;
+  explore::ExploreState state = explore::ExploreState::kScan;
+  double v_mps = 0.0, omega_rps = 0.0;
+  bool collided = false;
+};
+
+// An event placed on the true map (for the figure) with its number in time order.
+struct ExploreMark {
+  explore::ExploreEvent event;
+  Pose2 world_T_robot;
+};
+
+struct ExploreSummary {
+  double sim_seconds = 0.0;
+  double distance_m = 0.0;
+  int collisions = 0;
+  double coverage = 0.0;
+  int ends_detected = 0;
+  int turns = 0;
+  long frames = 0;
+  long frames_fully_processed = 0;
+  double perception_cpu_seconds = 0.0;
+  double wall_seconds = 0.0;
+  bool proceeded = true;     // false when exploration could not proceed (see outcome)
+  std::string outcome;       // one line: what happened
+};
+
+struct ExploreRunResult {
+  std::string world_name;
+  Pose2 start;
+  ExploreSummary summary;
+  std::vector<Pose2> true_path;         // one pose per frame
+  std::vector<ExploreMark> marks;       // ends detected, turns, stalls
+  std::vector<ExploreTraceRow> trace;   // empty unless keep_trace
+  std::vector<explore::TopoNode> topo;  // the explorer's topological map (map frame)
+};
+
+// Runs the loop for options.minutes of simulated time. `progress` (may be empty) receives the
+// fraction of simulated time done. Throws squint::Error for invalid options or a start pose
+// inside a wall.
+ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& options,
+                            const std::function<void(double)>& progress = {});
+
+// Fraction of the corridor centre-line length passed within half the corridor's width.
+double CorridorCoverage(const sim::World& world, const std::vector<Pose2>& path, double sample_step_m = 0.1);
+
+// The paper's Fig. 11 for one run: floor plan, path, end-of-corridor detections, numbered turns.
+cv::Mat DrawExploreMap(const sim::World& world, const ExploreRunResult& run, const std::string& title = {});
+
+// Writes summary.json, map.png and trace.csv into `dir` (an existing folder).
+void WriteExploreOutputs(const std::filesystem::path& dir, const sim::World& world, const ExploreRunResult& run);
+std::string SummaryJson(const ExploreSummary& s);
+
+// Seeded start poses for robustness runs: start 0 is the world's start, start 1 faces a wall,
+// start 2 is close to a wall, the rest are random free poses (seeded).
+std::vector<Pose2> SeededStarts(const sim::World& world, int count, std::uint64_t seed);
+
+}  // namespace squint::eval
