@@ -63,7 +63,9 @@ class Reader {
       if (!v.IsScalar()) throw YAML::Exception(YAML::Mark(), "not a scalar");
       *out = v.as<T>();
     } catch (const YAML::Exception&) {
-      Fail(key, std::is_integral_v<T> ? "must be an integer" : "must be a number");
+      Fail(key, std::is_same_v<T, bool> ? "must be true or false"
+                : std::is_integral_v<T>   ? "must be an integer"
+                                          : "must be a number");
     }
     if constexpr (std::is_floating_point_v<T>)
       if (!std::isfinite(*out)) Fail(key, "must be a finite number");
@@ -93,10 +95,13 @@ AvoidOptions ParseAvoid(const YAML::Node& root, const std::string& source, const
     r.Get(n, "avoid.outline", "max_gap_rows", &o.outline.max_gap_rows);
   }
   if (const YAML::Node n = a["polar"]) {
-    r.RequireMap(n, "avoid.polar", {"roi_radius_m", "sector_deg", "min_contacts"});
+    r.RequireMap(n, "avoid.polar",
+                 {"roi_radius_m", "sector_deg", "min_contacts", "free_needs_ground", "min_ground_features"});
     r.Get(n, "avoid.polar", "roi_radius_m", &o.polar.roi_radius_m);
     r.Get(n, "avoid.polar", "sector_deg", &o.polar.sector_deg);
     r.Get(n, "avoid.polar", "min_contacts", &o.polar.min_contacts);
+    r.Get(n, "avoid.polar", "free_needs_ground", &o.polar.free_needs_ground);
+    r.Get(n, "avoid.polar", "min_ground_features", &o.polar.min_ground_features);
   }
   if (const YAML::Node n = a["gap"]) {
     r.RequireMap(n, "avoid.gap", {"robot_radius_m", "margin_m"});
@@ -129,7 +134,9 @@ std::string AvoidOptionsToYaml(const AvoidOptions& o) {
     << "max_gap_rows" << YAML::Value << o.outline.max_gap_rows << YAML::EndMap;
   e << YAML::Key << "polar" << YAML::Value << YAML::BeginMap << YAML::Key << "roi_radius_m" << YAML::Value
     << o.polar.roi_radius_m << YAML::Key << "sector_deg" << YAML::Value << o.polar.sector_deg << YAML::Key
-    << "min_contacts" << YAML::Value << o.polar.min_contacts << YAML::EndMap;
+    << "min_contacts" << YAML::Value << o.polar.min_contacts << YAML::Key << "free_needs_ground" << YAML::Value
+    << o.polar.free_needs_ground << YAML::Key << "min_ground_features" << YAML::Value << o.polar.min_ground_features
+    << YAML::EndMap;
   e << YAML::Key << "gap" << YAML::Value << YAML::BeginMap << YAML::Key << "robot_radius_m" << YAML::Value
     << o.gap.robot_radius_m << YAML::Key << "margin_m" << YAML::Value << o.gap.margin_m << YAML::EndMap;
   e << YAML::EndMap << YAML::EndMap;

@@ -31,6 +31,7 @@ Avoider::Avoider(const CameraModel& camera, AvoidOptions options)
       polar_(camera_, options_.polar) {
   result_.contacts.reserve(256);
   result_.gaps.reserve(64);
+  result_.ground_floor_m.reserve(512);
 }
 
 const AvoidResult& Avoider::Process(const cv::Mat& gray, std::span<const ClassifiedFeature> features) {
@@ -43,7 +44,12 @@ const AvoidResult& Avoider::Process(const cv::Mat& gray, std::span<const Classif
   for (const OutlineTrace& t : *result_.traces) {
     if (auto c = ContactFromPixel(camera_, t.contact_px.cast<double>())) result_.contacts.push_back(*c);
   }
-  result_.map = &polar_.Build(result_.contacts);
+  result_.ground_floor_m.clear();
+  for (const ClassifiedFeature& f : features) {
+    if (f.cls != FeatureClass::kGround) continue;
+    if (auto p = camera_.FloorPoint(f.pixel)) result_.ground_floor_m.push_back(*p);
+  }
+  result_.map = &polar_.Build(result_.contacts, result_.ground_floor_m);
   FindGaps(*result_.map, options_.gap, &result_.gaps);
   result_.decision = ChooseSteering(result_.gaps);
   return result_;

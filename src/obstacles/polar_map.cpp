@@ -14,6 +14,7 @@ std::string PolarMapOptions::Validate() const {
   const double n = 180.0 / sector_deg;
   if (std::abs(n - std::round(n)) > 1e-6) return "polar.sector_deg must divide 180 into whole sectors";
   if (min_contacts < 1) return "polar.min_contacts must be >= 1";
+  if (min_ground_features < 1) return "polar.min_ground_features must be >= 1";
   return {};
 }
 
@@ -49,9 +50,11 @@ std::optional<int> PolarMapper::SectorOf(double bearing_deg) const {
   return std::clamp(i, 0, n - 1);
 }
 
-const PolarMap& PolarMapper::Build(std::span<const ContactPoint> contacts) {
+const PolarMap& PolarMapper::Build(std::span<const ContactPoint> contacts,
+                                   std::span<const Eigen::Vector2d> ground_floor_m) {
   for (PolarSector& s : map_.sectors) {
     s.contacts = 0;
+    s.ground = 0;
     s.range_m.reset();
     s.nearest_m.reset();
   }
@@ -64,9 +67,14 @@ const PolarMap& PolarMapper::Build(std::span<const ContactPoint> contacts) {
     ++s.contacts;
     if (!s.range_m || c.range_m < *s.range_m) s.range_m = c.range_m;
   }
+  for (const Eigen::Vector2d& g : ground_floor_m) {
+    if (g.norm() > options_.roi_radius_m) continue;
+    if (const std::optional<int> i = SectorOf(RadToDeg(std::atan2(g.y(), g.x())))) ++map_.sectors[*i].ground;
+  }
   for (PolarSector& s : map_.sectors) {
+    const bool floor_seen = !options_.free_needs_ground || s.ground >= options_.min_ground_features;
     if (s.contacts >= options_.min_contacts) s.state = SectorState::kOccupied;
-    else s.state = s.in_view ? SectorState::kFree : SectorState::kUnseen;
+    else s.state = s.in_view && floor_seen ? SectorState::kFree : SectorState::kUnseen;
     if (s.state != SectorState::kOccupied) s.range_m.reset();
   }
   return map_;

@@ -29,6 +29,8 @@ TEST(AvoidYamlTest, RoundTripKeepsEveryMember) {
   o.polar.roi_radius_m = 2.25;
   o.polar.sector_deg = 4.5;
   o.polar.min_contacts = 3;
+  o.polar.free_needs_ground = true;
+  o.polar.min_ground_features = 2;
   o.gap.robot_radius_m = 0.31;
   o.gap.margin_m = 0.07;
   const obstacles::AvoidOptions back = AvoidOptionsFromYaml(AvoidOptionsToYaml(o), "round-trip");
@@ -42,6 +44,8 @@ TEST(AvoidYamlTest, RoundTripKeepsEveryMember) {
   EXPECT_EQ(back.polar.roi_radius_m, o.polar.roi_radius_m);
   EXPECT_EQ(back.polar.sector_deg, o.polar.sector_deg);
   EXPECT_EQ(back.polar.min_contacts, o.polar.min_contacts);
+  EXPECT_EQ(back.polar.free_needs_ground, o.polar.free_needs_ground);
+  EXPECT_EQ(back.polar.min_ground_features, o.polar.min_ground_features);
   EXPECT_EQ(back.gap.robot_radius_m, o.gap.robot_radius_m);
   EXPECT_EQ(back.gap.margin_m, o.gap.margin_m);
 }

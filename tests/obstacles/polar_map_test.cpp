@@ -76,6 +76,21 @@ TEST(PolarMapTest, MinContactsSetsTheHistogramThreshold) {
   EXPECT_EQ(map.sectors[*m.SectorOf(-12.0)].state, SectorState::kOccupied);
 }
 
+TEST(PolarMapTest, FreeNeedsGroundEvidenceWhenAsked) {
+  PolarMapOptions o;
+  o.free_needs_ground = true;
+  PolarMapper m(testing::ObstacleCamera(), o);
+  const std::vector<Eigen::Vector2d> ground = {{1.0, 0.0}, {1.0, 0.01}, {2.0, -0.1}, {0.9, -0.2}};
+  const PolarMap& map = m.Build(std::vector<ContactPoint>{At(1.0, 12.0)}, ground);
+  EXPECT_EQ(map.sectors[*m.SectorOf(0.3)].state, SectorState::kFree);
+  EXPECT_EQ(map.sectors[*m.SectorOf(0.3)].ground, 2);
+  EXPECT_EQ(map.sectors[*m.SectorOf(-12.5)].state, SectorState::kFree);
+  // (2.0, -0.1) is beyond the ROI: no evidence for its sector.
+  EXPECT_EQ(map.sectors[*m.SectorOf(-2.9)].state, SectorState::kUnseen);
+  EXPECT_EQ(map.sectors[*m.SectorOf(12.0)].state, SectorState::kOccupied);
+  EXPECT_EQ(map.sectors[*m.SectorOf(20.0)].state, SectorState::kUnseen);
+}
+
 TEST(PolarMapTest, OptionsMustDivideTheSemicircle) {
   PolarMapOptions o;
   o.sector_deg = 7.0;

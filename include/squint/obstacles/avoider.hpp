@@ -35,6 +35,7 @@ struct AvoidResult {
   const std::vector<OutlineTrace>* traces = nullptr;  // one per contact-giving outline
   const std::vector<Eigen::Vector2i>* outline_pixels = nullptr;
   std::vector<ContactPoint> contacts;  // every contact below the horizon (in and beyond the ROI)
+  std::vector<Eigen::Vector2d> ground_floor_m;  // floor points of the ground features (robot frame)
   const PolarMap* map = nullptr;
   std::vector<Gap> gaps;
   SteeringDecision decision;

@@ -18,6 +18,12 @@ struct PolarMapOptions {
   double sector_deg = 5.0;    // must divide 180 into a whole number of sectors
   // Contact points a sector needs to be occupied (the paper's histogram: "a set of" points).
   int min_contacts = 1;
+  // Beyond the paper: a sector without contacts is free only when at least min_ground_features
+  // ground features' floor points lie in it within the ROI (evidence of floor, not just absence
+  // of outlines: a plain wall has no vertical edges and so no contacts). Without that evidence
+  // it is unseen. Off by default (the paper's map).
+  bool free_needs_ground = false;
+  int min_ground_features = 1;
 
   std::string Validate() const;
 };
@@ -31,6 +37,7 @@ struct PolarSector {
   bool in_view = false;     // the floor at the ROI radius is inside the image across the sector
   SectorState state = SectorState::kUnseen;
   int contacts = 0;                // contact points inside the ROI
+  int ground = 0;                  // ground features' floor points inside the ROI
   std::optional<double> range_m;   // nearest contact inside the ROI
   std::optional<double> nearest_m; // nearest contact at any range (the "visual sonar" reading)
 };
@@ -43,12 +50,16 @@ struct PolarMap {
 
 // Builds maps into a buffer reused from frame to frame. A sector is occupied when it holds at
 // least min_contacts contact points within the ROI (whether or not it is fully in view), free
-// when it is in view and holds fewer, unseen otherwise.
+// when it is in view and holds fewer (and, with free_needs_ground, enough ground points),
+// unseen otherwise.
 class PolarMapper {
  public:
   PolarMapper(const CameraModel& camera, PolarMapOptions options = {});
 
-  const PolarMap& Build(std::span<const ContactPoint> contacts);
+  // `ground_floor_m`: floor points (robot frame) of the ground features, used only with
+  // free_needs_ground.
+  const PolarMap& Build(std::span<const ContactPoint> contacts,
+                        std::span<const Eigen::Vector2d> ground_floor_m = {});
 
   // Index of the sector holding a bearing in [-90, 90]; none outside.
   std::optional<int> SectorOf(double bearing_deg) const;
