@@ -22,7 +22,8 @@ namespace squint::sim {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kCell = 0.1;          // light-map resolution, metres
+constexpr double kCell = 0.2;          // floor light-map resolution, metres (coarse: the map stays in cache)
+constexpr double kWallCell = 0.1;      // wall light-map resolution, metres (interpolated along the wall)
 constexpr double kLightRadius = 10.0;  // lights further away than this are ignored
 constexpr double kCeilingBounce = 0.25;
 constexpr double kLightPanelRadiance = 3.0;  // saturates at default exposure: lights are the brightest
@@ -43,6 +44,7 @@ struct Sample {
   double k = 0;                // dz per horizontal metre
   double range_per_h = 1;      // 3-D distance per horizontal metre
   double r_floor = kInf;       // horizontal distance to the floor (camera height / -k)
+  double inv_k = 0;            // 1 / k when the ray rises, else 0
   int bin = 0;
 };
 
@@ -88,12 +90,20 @@ struct Renderer::Impl {
   std::vector<double> obs_ox, obs_oy, obs_c, obs_s;  // per-frame ray origin in each obstacle's frame
   // Materials.
   std::vector<detail::TextureTable> tex;
+  struct MatFast {
+    double albedo, emission, mirror;
+  };
+  std::vector<MatFast> mats;
   // Floor grid.
   double gx0 = 0, gy0 = 0;
   int gnx = 0, gny = 0;
-  std::vector<float> floor_irr;
-  std::vector<std::int16_t> floor_mat, ceil_mat, flat_id;
-  std::vector<std::int32_t> light_id;
+  struct Cell {  // one cache-friendly record per light-map cell
+    float irr = 0;                     // floor irradiance
+    std::int16_t floor_mat = 0, ceil_mat = 0;
+    std::int16_t flat = -1;            // flat item over the cell, -2 several
+    std::int32_t light = -1;           // light panel over the cell
+  };
+  std::vector<Cell> cells;
   // Walls.
   struct WallLight {
     std::size_t offset = 0;
@@ -137,6 +147,7 @@ struct Renderer::Impl {
       s.k = d.z() / h;
       s.range_per_h = 1.0 / h;  // |d| = 1
       s.r_floor = s.k < 0 ? cam.height_m / -s.k : kInf;
+      s.inv_k = s.k > 0 ? 1.0 / s.k : 0.0;
       return s;
     };
     samples.clear();
@@ -178,6 +189,7 @@ struct Renderer::Impl {
 
     for (std::size_t i = 0; i < world.materials.size(); ++i)
       tex.push_back(detail::MakeTexture(world.materials[i], static_cast<std::uint32_t>(i + 1)));
+    for (const Material& m : world.materials) mats.push_back({m.albedo, m.emission, m.mirror});
 
     uniform_ceiling = true;
     ceiling_h = world.corridors.front().height_m;
@@ -208,13 +220,30 @@ struct Renderer::Impl {
     for (float& x : normal_table) x = g(rng);
   }
 
-  // Irradiance at a point with a given unit normal from every visible light (2-D visibility).
-  double Irradiance(const Eigen::Vector3d& p, const Eigen::Vector3d& normal) const {
-    double e = world.ambient;
-    for (const Light& l : world.lights) {
+  // The lights within reach of p and not hidden from it by a wall (2-D visibility: walls reach
+  // the ceiling).
+  std::vector<int> VisibleLights(const Eigen::Vector2d& p) const {
+    std::vector<int> out;
+    for (std::size_t i = 0; i < world.lights.size(); ++i) {
+      const Light& l = world.lights[i];
       if (!l.on) continue;
-      const Eigen::Vector2d d2 = p.head<2>() - l.centre;
-      if (d2.squaredNorm() > kLightRadius * kLightRadius) continue;
+      const Eigen::Vector2d d2 = p - l.centre;
+      const double hd = d2.norm();
+      if (hd > kLightRadius) continue;
+      if (hd > 1e-6) {
+        const auto hit = world.CastWalls(l.centre, d2 / hd);  // from the light towards the point
+        if (hit && hit->first < hd - 2e-3) continue;
+      }
+      out.push_back(static_cast<int>(i));
+    }
+    return out;
+  }
+
+  // Irradiance at a point with a given unit normal from the given (visible) lights.
+  double Irradiance(const Eigen::Vector3d& p, const Eigen::Vector3d& normal, const std::vector<int>& visible) const {
+    double e = world.ambient;
+    for (int i : visible) {
+      const Light& l = world.lights[i];
       const Eigen::Vector3d v(l.centre.x() - p.x(), l.centre.y() - p.y(), l.z_m - p.z());
       const double dist2 = v.squaredNorm();
       if (dist2 < 1e-6) continue;
@@ -222,11 +251,6 @@ struct Renderer::Impl {
       const double cos_e = v.z() / dist;
       const double cos_r = v.dot(normal) / dist;
       if (cos_e <= 0 || cos_r <= 0) continue;
-      const double hd = d2.norm();
-      if (hd > 1e-6) {
-        const auto hit = world.CastWalls(l.centre, d2 / hd);  // from the light towards the point
-        if (hit && hit->first < hd - 2e-3) continue;
-      }
       e += l.intensity * l.z_m * l.z_m * cos_e * cos_r / dist2;
     }
     return e;
@@ -238,12 +262,8 @@ struct Renderer::Impl {
     gy0 = b.y0;
     gnx = std::max(1, static_cast<int>(std::ceil((b.x1 - b.x0) / kCell)));
     gny = std::max(1, static_cast<int>(std::ceil((b.y1 - b.y0) / kCell)));
-    const std::size_t cells = static_cast<std::size_t>(gnx) * gny;
-    floor_irr.assign(cells, static_cast<float>(world.ambient));
-    floor_mat.assign(cells, 0);
-    ceil_mat.assign(cells, 0);
-    flat_id.assign(cells, -1);
-    light_id.assign(cells, -1);
+    const std::size_t n_cells = static_cast<std::size_t>(gnx) * gny;
+    cells.assign(n_cells, Cell{static_cast<float>(world.ambient), 0, 0, -1, -1});
     for (int j = 0; j < gny; ++j)
       for (int i = 0; i < gnx; ++i) {
         const Eigen::Vector2d c(gx0 + (i + 0.5) * kCell, gy0 + (j + 0.5) * kCell);
@@ -253,10 +273,10 @@ struct Renderer::Impl {
         for (std::size_t k = 0; k < world.corridors.size() && owner < 0; ++k)
           if (world.corridors[k].rect.Contains(c, kCell)) owner = static_cast<int>(k);
         if (owner < 0) owner = 0;
-        floor_mat[idx] = static_cast<std::int16_t>(world.corridors[owner].floor_material);
-        ceil_mat[idx] = static_cast<std::int16_t>(world.corridors[owner].ceiling_material);
+        cells[idx].floor_mat = static_cast<std::int16_t>(world.corridors[owner].floor_material);
+        cells[idx].ceil_mat = static_cast<std::int16_t>(world.corridors[owner].ceiling_material);
         if (!world.IsFree(c)) continue;
-        floor_irr[idx] = static_cast<float>(Irradiance({c.x(), c.y(), 0.0}, {0, 0, 1}));
+        cells[idx].irr = static_cast<float>(Irradiance({c.x(), c.y(), 0.0}, {0, 0, 1}, VisibleLights(c)));
       }
     // Light panels and flat items into the grid (cells they overlap).
     auto mark = [&](double x0, double y0, double x1, double y1, auto&& fn) {
@@ -270,13 +290,13 @@ struct Renderer::Impl {
     for (std::size_t k = 0; k < world.lights.size(); ++k) {
       const Light& l = world.lights[k];
       mark(l.centre.x() - l.half_x, l.centre.y() - l.half_y, l.centre.x() + l.half_x, l.centre.y() + l.half_y,
-           [&](std::size_t idx) { light_id[idx] = static_cast<std::int32_t>(k); });
+           [&](std::size_t idx) { cells[idx].light = static_cast<std::int32_t>(k); });
     }
     for (std::size_t k = 0; k < world.flat_items.size(); ++k) {
       const FlatItem& f = world.flat_items[k];
       const double r = std::hypot(f.half_x, f.half_y);
       mark(f.centre.x() - r, f.centre.y() - r, f.centre.x() + r, f.centre.y() + r, [&](std::size_t idx) {
-        flat_id[idx] = flat_id[idx] == -1 ? static_cast<std::int16_t>(k) : std::int16_t{-2};
+        cells[idx].flat = cells[idx].flat == -1 ? static_cast<std::int16_t>(k) : std::int16_t{-2};
       });
     }
     // Walls.
@@ -285,17 +305,18 @@ struct Renderer::Impl {
     for (const WallSegment& ws : world.walls) {
       WallLight wl;
       wl.offset = wall_irr.size();
-      wl.nu = static_cast<int>(std::ceil((ws.hi - ws.lo) / kCell)) + 1;
-      wl.nz = static_cast<int>(std::ceil(ws.height_m / kCell)) + 1;
+      wl.nu = static_cast<int>(std::ceil((ws.hi - ws.lo) / kWallCell)) + 2;
+      wl.nz = static_cast<int>(std::ceil(ws.height_m / kWallCell)) + 1;
       wall_light.push_back(wl);
       const Eigen::Vector3d normal(ws.normal.x(), ws.normal.y(), 0.0);
       for (int iu = 0; iu < wl.nu; ++iu) {
-        const double along = std::min(ws.hi, ws.lo + iu * kCell);
+        const double along = std::min(ws.hi, ws.lo + iu * kWallCell);
         Eigen::Vector2d p = ws.along_x ? Eigen::Vector2d(along, ws.coord) : Eigen::Vector2d(ws.coord, along);
         p += ws.normal * 1e-3;
+        const std::vector<int> visible = VisibleLights(p);
         for (int iz = 0; iz < wl.nz; ++iz) {
-          const double z = std::min(ws.height_m - 1e-3, iz * kCell);
-          wall_irr.push_back(static_cast<float>(Irradiance({p.x(), p.y(), z}, normal)));
+          const double z = std::min(ws.height_m - 1e-3, iz * kWallCell);
+          wall_irr.push_back(static_cast<float>(Irradiance({p.x(), p.y(), z}, normal, visible)));
         }
       }
     }
@@ -304,13 +325,13 @@ struct Renderer::Impl {
     obs_side_irr.clear();
     for (const Obstacle& o : world.obstacles) {
       const Eigen::Vector3d top(o.centre.x(), o.centre.y(), o.z1);
-      obs_top_irr.push_back(static_cast<float>(Irradiance(top, {0, 0, 1})));
+      obs_top_irr.push_back(static_cast<float>(Irradiance(top, {0, 0, 1}, VisibleLights(o.centre))));
       const double r = o.shape == Obstacle::Shape::kCylinder ? o.radius : std::max(o.half_x, o.half_y);
       double side = 0;
       for (int q = 0; q < 4; ++q) {
         const Eigen::Vector3d nrm(std::cos(q * kPi / 2), std::sin(q * kPi / 2), 0);
         const Eigen::Vector3d p = Eigen::Vector3d(o.centre.x(), o.centre.y(), 0.5 * (o.z0 + o.z1)) + nrm * (r + 0.01);
-        side += Irradiance(p, nrm);
+        side += Irradiance(p, nrm, VisibleLights(p.head<2>()));
       }
       obs_side_irr.push_back(static_cast<float>(side / 4));
     }
@@ -511,7 +532,7 @@ struct Renderer::Impl {
       hit.surf = Surf::kFloor;
       hit.r = s.r_floor;
     } else if (s.k > 0) {
-      const double rc = (frame_ceiling - cam_h) / s.k;
+      const double rc = (frame_ceiling - cam_h) * s.inv_k;
       if (rc < hit.r) {
         hit.surf = Surf::kCeiling;
         hit.r = rc;
@@ -576,7 +597,8 @@ struct Renderer::Impl {
       case Surf::kInside: return 0.0;
       case Surf::kFloor: {
         const std::size_t g = GridIndex(x, y);
-        const int f = flat_id[g];
+        const Cell& cell = cells[g];
+        const int f = cell.flat;
         if (f != -1) {
           for (std::size_t i = (f >= 0 ? f : 0); i < (f >= 0 ? f + 1 : world.flat_items.size()); ++i) {
             const FlatItem& it = world.flat_items[i];
@@ -584,26 +606,27 @@ struct Renderer::Impl {
             const double lx = c * (x - it.centre.x()) + s * (y - it.centre.y());
             const double ly = -s * (x - it.centre.x()) + c * (y - it.centre.y());
             if (std::abs(lx) <= it.half_x && std::abs(ly) <= it.half_y) {
-              const Material& m = world.materials[it.material];
-              return m.albedo * Tex(it.material, lx, ly) * floor_irr[g] + m.emission;
+              const MatFast& m = mats[it.material];
+              return m.albedo * Tex(it.material, lx, ly) * cell.irr + m.emission;
             }
           }
         }
-        const int mat = floor_mat[g];
-        const Material& m = world.materials[mat];
-        return m.albedo * Tex(mat, x, y) * floor_irr[g] + m.emission;
+        const int mat = cell.floor_mat;
+        const MatFast& m = mats[mat];
+        return m.albedo * Tex(mat, x, y) * cell.irr + m.emission;
       }
       case Surf::kCeiling: {
         const std::size_t g = GridIndex(x, y);
-        const int l = light_id[g];
+        const Cell& cell = cells[g];
+        const int l = cell.light;
         if (l >= 0) {
           const Light& lt = world.lights[l];
           if (std::abs(x - lt.centre.x()) <= lt.half_x && std::abs(y - lt.centre.y()) <= lt.half_y)
             return lt.on ? kLightPanelRadiance * std::max(0.3, lt.intensity) : kOffPanelRadiance;
         }
-        const int mat = ceil_mat[g];
-        const Material& m = world.materials[mat];
-        return m.albedo * Tex(mat, x, y) * (world.ambient + kCeilingBounce * floor_irr[g]) + m.emission;
+        const int mat = cell.ceil_mat;
+        const MatFast& m = mats[mat];
+        return m.albedo * Tex(mat, x, y) * (world.ambient + kCeilingBounce * cell.irr) + m.emission;
       }
       case Surf::kWall: {
         const WallSegment& ws = world.walls[hit.id];
@@ -621,10 +644,12 @@ struct Renderer::Impl {
           }
         }
         const WallLight& wl = wall_light[hit.id];
-        const int iu = std::clamp(static_cast<int>((along - ws.lo) * (1.0 / kCell) + 0.5), 0, wl.nu - 1);
-        const int iz = std::clamp(static_cast<int>(z * (1.0 / kCell) + 0.5), 0, wl.nz - 1);
-        const double e = wall_irr[wl.offset + static_cast<std::size_t>(iu) * wl.nz + iz];
-        const Material& m = world.materials[mat];
+        const double fu = std::clamp((along - ws.lo) * (1.0 / kWallCell), 0.0, wl.nu - 2.0);
+        const int iu = static_cast<int>(fu);
+        const int iz = std::clamp(static_cast<int>(z * (1.0 / kWallCell) + 0.5), 0, wl.nz - 1);
+        const float* col = &wall_irr[wl.offset + static_cast<std::size_t>(iu) * wl.nz + iz];
+        const double e = col[0] + (fu - iu) * (col[wl.nz] - col[0]);
+        const MatFast& m = mats[mat];
         double radiance = m.albedo * Tex(mat, tu, tv) * e + m.emission * Tex(mat, tu, tv);
         if (m.mirror > 0 && depth < 1) {
           const double rdx = ws.along_x ? dx : -dx, rdy = ws.along_x ? -dy : dy;
@@ -637,17 +662,17 @@ struct Renderer::Impl {
       case Surf::kObsSide: {
         const Obstacle& ob = world.obstacles[hit.id];
         static constexpr double kFace[4] = {0.95, 0.7, 0.82, 0.6};
-        const Material& m = world.materials[ob.material];
+        const MatFast& m = mats[ob.material];
         return m.albedo * Tex(ob.material, hit.face_u, hit.face_v) * obs_side_irr[hit.id] * kFace[hit.face & 3];
       }
       case Surf::kObsTop: {
         const Obstacle& ob = world.obstacles[hit.id];
-        const Material& m = world.materials[ob.material];
+        const MatFast& m = mats[ob.material];
         return m.albedo * Tex(ob.material, hit.face_u, hit.face_v) * obs_top_irr[hit.id];
       }
       case Surf::kObsBottom: {
         const Obstacle& ob = world.obstacles[hit.id];
-        return world.materials[ob.material].albedo * world.ambient;
+        return mats[ob.material].albedo * world.ambient;
       }
     }
     return 0.0;

@@ -40,8 +40,8 @@ TextureTable MakeTexture(const Material& m, std::uint32_t seed) {
   const float c = static_cast<float>(m.contrast);
   const int period = kTexSize / kTexReps;  // texels per pattern period
   std::vector<float> f(t.texels.size(), 1.0f);
-  const auto fine = ValueNoise(64, rng);
-  const auto coarse = ValueNoise(8, rng);
+  const auto fine = ValueNoise(32, rng);
+  const auto coarse = ValueNoise(4, rng);
   switch (m.texture) {
     case Texture::kPlain:
       for (std::size_t i = 0; i < f.size(); ++i) f[i] = 1.0f + 0.15f * c * fine[i] + 0.02f * coarse[i];

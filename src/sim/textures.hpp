@@ -10,8 +10,8 @@
 
 namespace squint::sim::detail {
 
-inline constexpr int kTexSize = 256;   // texels per table side (power of two)
-inline constexpr int kTexReps = 4;     // pattern periods per table side
+inline constexpr int kTexSize = 128;   // texels per table side (power of two; 16 KB tables stay in cache)
+inline constexpr int kTexReps = 2;     // pattern periods per table side
 
 struct TextureTable {
   std::vector<std::uint8_t> texels;  // kTexSize * kTexSize, row-major (v rows, u columns)
