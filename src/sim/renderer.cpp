@@ -39,13 +39,14 @@ std::uint64_t SplitMix(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
+// One ray, 20 bytes so that a frame's rays stream through the cache.
 struct Sample {
-  double ca = 1, sa = 0;       // horizontal unit direction, robot frame
-  double k = 0;                // dz per horizontal metre
-  double range_per_h = 1;      // 3-D distance per horizontal metre
-  double r_floor = kInf;       // horizontal distance to the floor (camera height / -k)
-  double inv_k = 0;            // 1 / k when the ray rises, else 0
+  float ca = 1, sa = 0;        // horizontal unit direction, robot frame
+  float k = 0;                 // dz per horizontal metre
+  float rk = 0;                // k < 0: horizontal distance to the floor (height / -k); k > 0: 1 / k
   int bin = 0;
+  double RFloor() const { return k < 0 ? static_cast<double>(rk) : kInf; }
+  double RangePerH() const { return std::sqrt(1.0 + static_cast<double>(k) * k); }  // 3-D per horizontal metre
 };
 
 enum class Surf : std::uint8_t { kNone, kFloor, kCeiling, kWall, kObsSide, kObsTop, kObsBottom, kInside };
@@ -142,12 +143,11 @@ struct Renderer::Impl {
       Sample s;
       double h = std::hypot(d.x(), d.y());
       if (h < 1e-9) h = 1e-9;
-      s.ca = d.x() / h;
-      s.sa = d.y() / h;
-      s.k = d.z() / h;
-      s.range_per_h = 1.0 / h;  // |d| = 1
-      s.r_floor = s.k < 0 ? cam.height_m / -s.k : kInf;
-      s.inv_k = s.k > 0 ? 1.0 / s.k : 0.0;
+      s.ca = static_cast<float>(d.x() / h);
+      s.sa = static_cast<float>(d.y() / h);
+      s.k = static_cast<float>(d.z() / h);
+      s.rk = s.k < 0 ? static_cast<float>(cam.height_m / -static_cast<double>(s.k))
+                     : (s.k > 0 ? static_cast<float>(1.0 / static_cast<double>(s.k)) : 0.0f);
       return s;
     };
     samples.clear();
@@ -528,11 +528,11 @@ struct Renderer::Impl {
       if (const auto h = world.CastWalls({px, py}, {dx, dy})) hit.r = h->first, hit.id = h->second;
     }
     hit.surf = hit.id >= 0 ? Surf::kWall : Surf::kNone;
-    if (s.r_floor < hit.r) {
+    if (s.k < 0 && s.rk < hit.r) {
       hit.surf = Surf::kFloor;
-      hit.r = s.r_floor;
+      hit.r = s.rk;
     } else if (s.k > 0) {
-      const double rc = (frame_ceiling - cam_h) * s.inv_k;
+      const double rc = (frame_ceiling - cam_h) * s.rk;
       if (rc < hit.r) {
         hit.surf = Surf::kCeiling;
         hit.r = rc;
@@ -712,7 +712,7 @@ struct Renderer::Impl {
           double dx, dy;
           const Hit hit = n > 1 ? Trace(c, dx, dy) : first;
           if (label) label[v * label_stride + u] = hit.surf == Surf::kFloor ? kLabelFloor : kLabelStanding;
-          if (range) range[v * range_stride + u] = static_cast<float>(hit.r * c.range_per_h);
+          if (range) range[v * range_stride + u] = static_cast<float>(hit.r * c.RangePerH());
         }
       }
     }
