@@ -96,12 +96,14 @@ AvoidOptions ParseAvoid(const YAML::Node& root, const std::string& source, const
   }
   if (const YAML::Node n = a["polar"]) {
     r.RequireMap(n, "avoid.polar",
-                 {"roi_radius_m", "sector_deg", "min_contacts", "free_needs_ground", "min_ground_features"});
+                 {"roi_radius_m", "sector_deg", "min_contacts", "free_needs_ground", "min_ground_features",
+                  "min_ground_range_m"});
     r.Get(n, "avoid.polar", "roi_radius_m", &o.polar.roi_radius_m);
     r.Get(n, "avoid.polar", "sector_deg", &o.polar.sector_deg);
     r.Get(n, "avoid.polar", "min_contacts", &o.polar.min_contacts);
     r.Get(n, "avoid.polar", "free_needs_ground", &o.polar.free_needs_ground);
     r.Get(n, "avoid.polar", "min_ground_features", &o.polar.min_ground_features);
+    r.Get(n, "avoid.polar", "min_ground_range_m", &o.polar.min_ground_range_m);
   }
   if (const YAML::Node n = a["gap"]) {
     r.RequireMap(n, "avoid.gap", {"robot_radius_m", "margin_m"});
@@ -136,6 +138,7 @@ std::string AvoidOptionsToYaml(const AvoidOptions& o) {
     << o.polar.roi_radius_m << YAML::Key << "sector_deg" << YAML::Value << o.polar.sector_deg << YAML::Key
     << "min_contacts" << YAML::Value << o.polar.min_contacts << YAML::Key << "free_needs_ground" << YAML::Value
     << o.polar.free_needs_ground << YAML::Key << "min_ground_features" << YAML::Value << o.polar.min_ground_features
+    << YAML::Key << "min_ground_range_m" << YAML::Value << o.polar.min_ground_range_m
     << YAML::EndMap;
   e << YAML::Key << "gap" << YAML::Value << YAML::BeginMap << YAML::Key << "robot_radius_m" << YAML::Value
     << o.gap.robot_radius_m << YAML::Key << "margin_m" << YAML::Value << o.gap.margin_m << YAML::EndMap;

@@ -108,10 +108,16 @@ AvoidSimRun RunAvoidSim(const sim::World& world, const config::AvoidFileOptions&
           omega = std::clamp(DegToRad(*r.decision.steer_deg) / so.turn_time_s, -max_turn, max_turn);
         }
       } else {
+        // No classification (e.g. too few features facing a plain wall): do not drive on blind;
+        // turn as on a stop. Pairs without motion cannot be classified either way.
         ++run.skipped_pairs;
         ++run.skipped_by_status[obstacles::PairStatusName(pair.status)];
-        v = so.speed_mps;
-        omega = 0.0;
+        if (pair.status == obstacles::PairStatus::kNoMotion || pair.status == obstacles::PairStatus::kPureRotation) {
+          v = so.speed_mps;
+          omega = 0.0;
+        } else {
+          turn_left_rad = DegToRad(so.stop_turn_deg);
+        }
       }
     }
     previous = current;

@@ -15,6 +15,8 @@ std::string PolarMapOptions::Validate() const {
   if (std::abs(n - std::round(n)) > 1e-6) return "polar.sector_deg must divide 180 into whole sectors";
   if (min_contacts < 1) return "polar.min_contacts must be >= 1";
   if (min_ground_features < 1) return "polar.min_ground_features must be >= 1";
+  if (!(min_ground_range_m >= 0.0 && min_ground_range_m <= roi_radius_m))
+    return "polar.min_ground_range_m must be in [0, roi_radius_m]";
   return {};
 }
 
@@ -68,7 +70,7 @@ const PolarMap& PolarMapper::Build(std::span<const ContactPoint> contacts,
     if (!s.range_m || c.range_m < *s.range_m) s.range_m = c.range_m;
   }
   for (const Eigen::Vector2d& g : ground_floor_m) {
-    if (g.norm() > options_.roi_radius_m) continue;
+    if (g.norm() > options_.roi_radius_m || g.norm() < options_.min_ground_range_m) continue;
     if (const std::optional<int> i = SectorOf(RadToDeg(std::atan2(g.y(), g.x())))) ++map_.sectors[*i].ground;
   }
   for (PolarSector& s : map_.sectors) {

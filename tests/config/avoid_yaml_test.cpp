@@ -31,6 +31,7 @@ TEST(AvoidYamlTest, RoundTripKeepsEveryMember) {
   o.polar.min_contacts = 3;
   o.polar.free_needs_ground = true;
   o.polar.min_ground_features = 2;
+  o.polar.min_ground_range_m = 0.9;
   o.gap.robot_radius_m = 0.31;
   o.gap.margin_m = 0.07;
   const obstacles::AvoidOptions back = AvoidOptionsFromYaml(AvoidOptionsToYaml(o), "round-trip");
@@ -46,6 +47,7 @@ TEST(AvoidYamlTest, RoundTripKeepsEveryMember) {
   EXPECT_EQ(back.polar.min_contacts, o.polar.min_contacts);
   EXPECT_EQ(back.polar.free_needs_ground, o.polar.free_needs_ground);
   EXPECT_EQ(back.polar.min_ground_features, o.polar.min_ground_features);
+  EXPECT_EQ(back.polar.min_ground_range_m, o.polar.min_ground_range_m);
   EXPECT_EQ(back.gap.robot_radius_m, o.gap.robot_radius_m);
   EXPECT_EQ(back.gap.margin_m, o.gap.margin_m);
 }

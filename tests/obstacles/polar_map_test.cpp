@@ -89,6 +89,12 @@ TEST(PolarMapTest, FreeNeedsGroundEvidenceWhenAsked) {
   EXPECT_EQ(map.sectors[*m.SectorOf(-2.9)].state, SectorState::kUnseen);
   EXPECT_EQ(map.sectors[*m.SectorOf(12.0)].state, SectorState::kOccupied);
   EXPECT_EQ(map.sectors[*m.SectorOf(20.0)].state, SectorState::kUnseen);
+  // Evidence nearer than min_ground_range_m does not count: (0.9, -0.2) is 0.92 m away.
+  o.min_ground_range_m = 0.95;
+  PolarMapper far(testing::ObstacleCamera(), o);
+  const PolarMap& fm = far.Build(std::vector<ContactPoint>{}, ground);
+  EXPECT_EQ(fm.sectors[*far.SectorOf(-12.5)].state, SectorState::kUnseen);
+  EXPECT_EQ(fm.sectors[*far.SectorOf(0.3)].state, SectorState::kFree);
 }
 
 TEST(PolarMapTest, OptionsMustDivideTheSemicircle) {

@@ -24,6 +24,8 @@ struct PolarMapOptions {
   // it is unseen. Off by default (the paper's map).
   bool free_needs_ground = false;
   int min_ground_features = 1;
+  // Only ground points at least this far count as evidence (floor seen at r is free up to r).
+  double min_ground_range_m = 0.0;
 
   std::string Validate() const;
 };
