@@ -133,12 +133,12 @@ IptOptions IptOptionsFromYaml(const std::string& text, const std::string& source
       }
     }
     if (const YAML::Node z = c["zoning"]) {
-      r.RequireMap(z, "classifier.zoning", {"dst_m", "step_m", "peak_fraction", "floor_fraction"});
+      r.RequireMap(z, "classifier.zoning", {"dst_m", "step_m", "zone2_min_d_m", "zone0_max_d_m"});
       auto& x = o.classifier.zoning;
       r.Get(z, "classifier.zoning", "dst_m", &x.dst_m);
       r.Get(z, "classifier.zoning", "step_m", &x.step_m);
-      r.Get(z, "classifier.zoning", "peak_fraction", &x.peak_fraction);
-      r.Get(z, "classifier.zoning", "floor_fraction", &x.floor_fraction);
+      r.Get(z, "classifier.zoning", "zone2_min_d_m", &x.zone2_min_d_m);
+      r.Get(z, "classifier.zoning", "zone0_max_d_m", &x.zone0_max_d_m);
     }
   }
   r.Get(root, "", "min_translation_m", &o.min_translation_m);
@@ -201,8 +201,8 @@ std::string IptOptionsToYaml(const IptOptions& o) {
   e << YAML::Key << "zoning" << YAML::Value << YAML::Flow << YAML::BeginMap;
   e << YAML::Key << "dst_m" << YAML::Value << c.zoning.dst_m;
   e << YAML::Key << "step_m" << YAML::Value << c.zoning.step_m;
-  e << YAML::Key << "peak_fraction" << YAML::Value << c.zoning.peak_fraction;
-  e << YAML::Key << "floor_fraction" << YAML::Value << c.zoning.floor_fraction;
+  e << YAML::Key << "zone2_min_d_m" << YAML::Value << c.zoning.zone2_min_d_m;
+  e << YAML::Key << "zone0_max_d_m" << YAML::Value << c.zoning.zone0_max_d_m;
   e << YAML::EndMap;
   e << YAML::EndMap;
   e << YAML::Key << "min_translation_m" << YAML::Value << o.min_translation_m;

@@ -39,6 +39,42 @@ std::optional<double> OptimalBeta(const std::vector<LabelledDiscrepancy>& sample
   return 0.5 * (sorted[best_end - 1].first + sorted[best_end].first);
 }
 
+std::optional<std::pair<double, double>> OptimalBand(const std::vector<LabelledDiscrepancy>& samples, double delta,
+                                                     double unclassified_cost) {
+  if (samples.empty()) return std::nullopt;
+  std::vector<std::pair<double, bool>> sorted;
+  sorted.reserve(samples.size());
+  for (const auto& s : samples) sorted.emplace_back(s.discrepancy_m, s.obstacle);
+  std::sort(sorted.begin(), sorted.end());
+  // Cut positions k = 0..n (k samples at or below the cut), only between distinct D values.
+  const std::size_t n = sorted.size();
+  std::vector<std::size_t> cuts = {0};
+  for (std::size_t i = 1; i <= n; ++i)
+    if (i == n || sorted[i].first != sorted[i - 1].first) cuts.push_back(i);
+  std::vector<double> obstacles_below(n + 1, 0.0), ground_below(n + 1, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    obstacles_below[i + 1] = obstacles_below[i] + (sorted[i].second ? 1.0 : 0.0);
+    ground_below[i + 1] = ground_below[i] + (sorted[i].second ? 0.0 : 1.0);
+  }
+  const double ground_total = ground_below[n];
+  // cost(lo, hi) = [δ FN(lo) − λ k_lo] + [λ k_hi + FP(hi)]: for each hi keep the best lo <= hi.
+  double best_cost = INFINITY, best_left = INFINITY;
+  std::size_t best_lo = 0, best_hi = 0, left_arg = 0;
+  for (std::size_t k : cuts) {
+    const double left = delta * obstacles_below[k] - unclassified_cost * static_cast<double>(k);
+    if (left < best_left - 1e-12) best_left = left, left_arg = k;
+    const double right = unclassified_cost * static_cast<double>(k) + (ground_total - ground_below[k]);
+    if (best_left + right < best_cost - 1e-12) best_cost = best_left + right, best_lo = left_arg, best_hi = k;
+  }
+  // Thresholds halfway between neighbouring samples (as OptimalBeta).
+  auto threshold = [&](std::size_t k) {
+    if (k == 0) return std::max(0.0, sorted.front().first * 0.5);
+    if (k == n) return sorted.back().first;
+    return 0.5 * (sorted[k - 1].first + sorted[k].first);
+  };
+  return std::make_pair(threshold(best_lo), threshold(best_hi));
+}
+
 ClassifierOptions LearnZoneThresholds(const std::vector<LabelledDiscrepancy>& samples,
                                       const BetaLearningOptions& options, const ClassifierOptions& base) {
   ClassifierOptions out = base;
@@ -54,6 +90,14 @@ ClassifierOptions LearnZoneThresholds(const std::vector<LabelledDiscrepancy>& sa
     if (beta) t.beta_m = *beta;
     t.refine_high_m.reset();
     if (!options.refine_zone[static_cast<std::size_t>(z)]) continue;
+    if (!options.band_from_false_positive_quantile) {
+      if (static_cast<int>(zone.size()) < options.min_zone_samples) continue;
+      const auto band = OptimalBand(zone, options.delta, options.unclassified_cost);
+      if (!band) continue;
+      t.beta_m = band->first;
+      if (band->second > band->first) t.refine_high_m = band->second;
+      continue;
+    }
     std::vector<double> false_positive_d;
     for (const auto& s : zone)
       if (!s.obstacle && s.discrepancy_m > t.beta_m) false_positive_d.push_back(s.discrepancy_m);

@@ -15,8 +15,8 @@ std::string ZoneOptions::Validate() const {
   std::ostringstream why;
   if (!(dst_m > 0.0 && std::isfinite(dst_m))) why << "dst_m must be positive; ";
   if (!(step_m > 0.0 && std::isfinite(step_m))) why << "step_m must be positive; ";
-  if (!(peak_fraction > 0.0 && peak_fraction < 1.0)) why << "peak_fraction must lie in (0, 1); ";
-  if (!(floor_fraction >= 0.0 && floor_fraction < peak_fraction)) why << "floor_fraction must lie in [0, peak_fraction); ";
+  if (!(zone2_min_d_m > 0.0 && std::isfinite(zone2_min_d_m))) why << "zone2_min_d_m must be positive; ";
+  if (!(zone0_max_d_m >= 0.0 && zone0_max_d_m < zone2_min_d_m)) why << "zone0_max_d_m must lie in [0, zone2_min_d_m); ";
   std::string s = why.str();
   if (s.size() >= 2) s.resize(s.size() - 2);
   return s;
@@ -71,18 +71,14 @@ ZoneLayout ComputeZoneLayout(const CameraModel& camera, const ZoneOptions& optio
       best = std::max(best, SimulatedD(camera, world_T_second, {u, row}, options.dst_m));
     profile.emplace_back(row, best);
   }
-  double peak = 0.0;
-  std::size_t peak_index = 0;
-  for (std::size_t i = 0; i < profile.size(); ++i)
-    if (profile[i].second > peak) peak = profile[i].second, peak_index = i;
   layout.zone2_end_row = layout.zone1_end_row = camera.height;
   bool found2 = false;
-  for (std::size_t i = peak_index; i < profile.size(); ++i) {
-    if (!found2 && profile[i].second < options.peak_fraction * peak) {
+  for (std::size_t i = 0; i < profile.size(); ++i) {
+    if (!found2 && profile[i].second < options.zone2_min_d_m) {
       layout.zone2_end_row = profile[i].first;
       found2 = true;
     }
-    if (found2 && profile[i].second <= options.floor_fraction * peak) {
+    if (found2 && profile[i].second <= options.zone0_max_d_m) {
       layout.zone1_end_row = profile[i].first;
       break;
     }

@@ -27,7 +27,7 @@ TEST(BetaLearning, RecoversAPlantedThresholdPerZone) {
     for (int i = 0; i < 200; ++i) samples.push_back({z, obstacle(rng), true});
   }
   BetaLearningOptions opt;
-  opt.refine_zone = {false, false, false};
+  opt.refine_zone = {false, false, false};  // plain β per zone
   const ClassifierOptions learned = LearnZoneThresholds(samples, opt, ClassifierOptions{});
   for (int z = 0; z < 3; ++z) {
     // With 400 uniform ground samples, the largest lies within ~1% of the planted threshold and the
@@ -60,6 +60,7 @@ TEST(BetaLearning, RefinementBandCoversTheFalsePositives) {
   for (int i = 0; i < 100; ++i) s.push_back({1, 0.05 + 0.01 * i, true});
   BetaLearningOptions opt;
   opt.refine_quantile = 1.0;
+  opt.band_from_false_positive_quantile = true;
   opt.min_zone_samples = 10;
   const ClassifierOptions c = LearnZoneThresholds(s, opt, ClassifierOptions{});
   const ZoneThreshold& t = c.zones[1];
@@ -69,6 +70,26 @@ TEST(BetaLearning, RefinementBandCoversTheFalsePositives) {
   // Every ground point above β lies inside the band.
   for (const auto& x : s)
     if (!x.obstacle && x.discrepancy_m > t.beta_m) EXPECT_LE(x.discrepancy_m, *t.refine_high_m + 1e-12);
+}
+
+TEST(BetaLearning, LearnedBandLeavesTheOverlapUnclassified) {
+  // Ground D uniform on [0, 2], obstacles on [1, 3] (about 500 of each per unit D). Inside the
+  // overlap, lowering lo by dD saves δ·500 dD of FN and costs λ·1000 dD of unclassified features;
+  // raising hi saves 500 dD of FP for the same λ·1000 dD. With λ = 0.2 (< δ/2) both ends move out
+  // to the overlap's ends: the band is (1, 2].
+  std::vector<LabelledDiscrepancy> s;
+  for (int i = 0; i <= 1000; ++i) {
+    s.push_back({0, 2.0 * i / 1000.0, false});
+    s.push_back({0, 1.0 + 2.0 * i / 1000.0, true});
+  }
+  const auto band = OptimalBand(s, 0.5, 0.2);
+  ASSERT_TRUE(band.has_value());
+  EXPECT_NEAR(band->first, 1.0, 0.01);
+  EXPECT_NEAR(band->second, 2.0, 0.01);
+  // λ = 0.6 > 0.5: the band shrinks to nothing and lo = hi is OptimalBeta's β.
+  const auto none = OptimalBand(s, 0.5, 0.6);
+  EXPECT_NEAR(none->first, none->second, 1e-12);
+  EXPECT_NEAR(none->first, *OptimalBeta(s, 0.5), 0.01);
 }
 
 TEST(Classifier, ZonesBetasAndRefinement) {

@@ -16,7 +16,7 @@
 //       - {beta_m: 0.021}
 //       - {beta_m: 0.025, refine_high_m: 0.085}
 //       - {beta_m: 0.090}
-//     zoning: {dst_m: 1.5, step_m: 0.031, peak_fraction: 0.5, floor_fraction: 0.02}
+//     zoning: {dst_m: 1.5, step_m: 0.031, zone2_min_d_m: 0.08, zone0_max_d_m: 0.001}
 //   min_translation_m: 0.005
 //   pure_rotation_deg: 0.5
 #pragma once

@@ -20,10 +20,13 @@ struct ZoneOptions {
   double dst_m = 1.5;
   // Forward motion between the two simulated frames (the paper: 31 mm).
   double step_m = 0.031;
-  // Zone 2 ends (going down) at the first row whose D falls below this fraction of the largest D.
-  double peak_fraction = 0.5;
-  // Zone 0 starts at the first row whose D falls below this fraction of the largest D.
-  double floor_fraction = 0.02;
+  // Zone 2 (going down from the horizon) ends at the first row whose simulated D (the largest over
+  // the row) falls below this level. D grows without bound towards the horizon, so a fraction of
+  // the peak would leave zone 2 a few rows wide; the paper's zone 2 holds D of 30–150 mm.
+  double zone2_min_d_m = 0.08;
+  // Zone 0 starts at the first row whose simulated D is at most this level (the DST sphere lies
+  // under the floor there: close floor points).
+  double zone0_max_d_m = 0.001;
 
   std::string Validate() const;
 };
