@@ -213,6 +213,27 @@ CorridorRun RunCorridorSequence(const io::Sequence& sequence, const CorridorRunO
   if (options.gated_pass) with_gate.emplace(gated, sequence.Camera());
   corridor::CorridorKalman kalman(options.kalman);
 
+  SQUINT_ENSURE(options.distance_median_frames >= 1, "median window must be >= 1");
+  std::array<std::vector<double>, kDistanceCueCount> windows;
+  std::vector<double> scratch;
+  const corridor::DistanceOptions& dopt = options.perception.distance;
+  const auto model = [&dopt](int c, double raw) -> std::optional<double> {
+    double d = 0.0;
+    switch (static_cast<DistanceCue>(c)) {
+      case DistanceCue::kTimeToContact:
+        if (!(raw > 0.0)) return std::nullopt;  // not approaching
+        d = dopt.ttc_scale * raw + dopt.ttc_bias_m;
+        break;
+      case DistanceCue::kJeffrey: d = dopt.beta2 - dopt.alpha2 * raw; break;
+      case DistanceCue::kEntropy:
+        if (raw == 0.0) return std::nullopt;
+        d = dopt.alpha3 / raw;
+        break;
+    }
+    if (!std::isfinite(d) || d < dopt.min_m || d > dopt.max_m) return std::nullopt;
+    return d;
+  };
+
   const auto& records = sequence.Frames();
   run.frames.reserve(records.size());
   for (std::size_t i = 0; i < records.size(); ++i) {
@@ -258,6 +279,31 @@ CorridorRun RunCorridorSequence(const io::Sequence& sequence, const CorridorRunO
     f.fused_heading_deg = r.heading_deg;
     f.fused_dist_m = r.dist_end_m;
 
+    // Running medians of the raw distance quantities while driving forward.
+    double sw = 0.0, swd = 0.0;
+    for (int c = 0; c < kDistanceCueCount; ++c) {
+      std::vector<double>& w = windows[c];
+      if (!f.moving_forward) w.clear();
+      if (f.dist_raw[c]) {
+        if (w.size() == options.distance_median_frames) w.erase(w.begin());
+        w.push_back(*f.dist_raw[c]);
+      }
+      if (w.empty() || !f.moving_forward || !options.perception.distance.enabled[c]) continue;
+      scratch.assign(w.begin(), w.end());
+      const std::size_t mid = scratch.size() / 2;
+      std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(mid), scratch.end());
+      double med = scratch[mid];
+      if (scratch.size() % 2 == 0)
+        med = 0.5 * (med + *std::max_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(mid)));
+      f.dist_filtered_raw[c] = med;
+      f.dist_filtered_m[c] = model(c, med);
+      if (f.dist_filtered_m[c]) {
+        sw += dopt.weights[c];
+        swd += dopt.weights[c] * *f.dist_filtered_m[c];
+      }
+    }
+    if (sw > 0.0) f.filtered_dist_m = swd / sw;
+
     // Kalman filter over the cues, odometry as the process model.
     if (i > 0) kalman.Predict(motion);
     for (int c = 0; c < kHeadingCueCount; ++c) {
@@ -267,9 +313,10 @@ CorridorRun RunCorridorSequence(const io::Sequence& sequence, const CorridorRunO
       kalman.UpdateHeading(*f.heading_deg[c], hc.error_std_deg);
     }
     for (int c = 0; c < kDistanceCueCount; ++c) {
-      if (!f.dist_m[c]) continue;
+      if (!f.dist_filtered_m[c]) continue;
       const DistanceCueCalibration& dc = options.record.distance[c];
-      kalman.UpdateDistance(*f.dist_m[c], dc.sigma0_m + dc.sigma_slope * std::max(0.0, *f.dist_m[c]));
+      kalman.UpdateDistance(*f.dist_filtered_m[c],
+                            dc.sigma0_m + dc.sigma_slope * std::max(0.0, *f.dist_filtered_m[c]));
     }
     f.kalman_heading_deg = kalman.HeadingDeg();
     f.kalman_dist_m = kalman.DistanceM();
@@ -353,7 +400,10 @@ CorridorCalibrationFile FitCorridorCalibration(const std::vector<CorridorRun>& r
       std::vector<corridor::HeadingSample> s;
       for (const CorridorRun& run : runs)
         for (const CorridorFrame& f : run.frames)
-          if (f.gt.heading_deg && f.heading_camera_deg[c]) s.push_back({*f.gt.heading_deg, *f.heading_camera_deg[c]});
+          // Heading is fitted on frames that are not driving forward (the sweeps of §5.1): the
+          // thousands of straight-driving frames at one heading would otherwise swamp the fit.
+          if (!f.moving_forward && f.gt.heading_deg && f.heading_camera_deg[c])
+            s.push_back({*f.gt.heading_deg, *f.heading_camera_deg[c]});
       const std::string what = std::string("heading cue '") + HName(c) + "'";
       if (s.empty()) throw Error(what + ": no frame gave both an estimate and a ground-truth heading");
       const corridor::HeadingFit fit = corridor::FitHeading(s, what, options.heading);
@@ -378,7 +428,8 @@ CorridorCalibrationFile FitCorridorCalibration(const std::vector<CorridorRun>& r
       std::vector<corridor::DistanceSample> s;
       for (const CorridorRun& run : runs)
         for (const CorridorFrame& f : run.frames)
-          if (f.moving_forward && f.gt.dist_end_m && f.dist_raw[c]) s.push_back({*f.gt.dist_end_m, *f.dist_raw[c]});
+          if (f.moving_forward && f.gt.dist_end_m && f.dist_filtered_raw[c])
+            s.push_back({*f.gt.dist_end_m, *f.dist_filtered_raw[c]});
       const std::string what = std::string("distance cue '") + DName(c) + "'";
       if (s.empty())
         throw Error(what + ": no frame gave both an estimate and a ground-truth distance while driving forward");
@@ -534,6 +585,9 @@ std::string WriteCorridorReport(const std::vector<CorridorRun>& runs, const fs::
   for (int c = 0; c < kDistanceCueCount; ++c)
     dist_est.push_back({DName(c), [c](const CorridorFrame& f) { return f.dist_m[c]; }});
   dist_est.push_back({"fused", [](const CorridorFrame& f) { return f.fused_dist_m; }});
+  for (int c = 0; c < kDistanceCueCount; ++c)
+    dist_est.push_back({std::string(DName(c)) + "_median", [c](const CorridorFrame& f) { return f.dist_filtered_m[c]; }});
+  dist_est.push_back({"fused_median", [](const CorridorFrame& f) { return f.filtered_dist_m; }});
   dist_est.push_back({"kalman", [](const CorridorFrame& f) { return f.kalman_dist_m; }});
 
   // Heading (frames with a true heading).

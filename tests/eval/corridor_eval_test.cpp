@@ -102,9 +102,9 @@ std::vector<CorridorRun> PlantedRuns() {
       f.gt.heading_deg = 0.0;
       f.gt.dist_end_m = d;
       f.moving_forward = true;
-      f.dist_raw[0] = d / 1.2;               // ttc scale 1.2
-      f.dist_raw[1] = (9.0 - d) / 0.5;       // β2 = 9, α2 = 0.5
-      f.dist_raw[2] = -0.02 / d;             // α3 = −0.02
+      f.dist_filtered_raw[0] = d / 1.2;      // ttc scale 1.2 (the fit uses the median-filtered raw values)
+      f.dist_filtered_raw[1] = (9.0 - d) / 0.5;      // β2 = 9, α2 = 0.5
+      f.dist_filtered_raw[2] = -0.02 / d;            // α3 = −0.02
       runs[r].frames.push_back(f);
     }
   }

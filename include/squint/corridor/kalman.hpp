@@ -26,7 +26,7 @@ struct CorridorKalmanOptions {
   double gate_chi2 = 9.0;
   // After this many consecutive rejections of one state, it is re-initialised from the next
   // measurement (the corridor changed: a turn, a new end wall).
-  int reinit_after_rejections = 6;
+  int reinit_after_rejections = 20;
   // Lower bound on the distance state (the camera cannot be behind the end wall).
   double min_dist_m = 0.0;
 

@@ -86,6 +86,12 @@ struct CorridorFrame {
   // Raw distance quantities: ttc τ·travelled (m), Jeffrey J, entropy ΔH = H(t−1) − H(t).
   std::array<std::optional<double>, corridor::kDistanceCueCount> dist_raw{};
   std::array<std::optional<double>, corridor::kDistanceCueCount> dist_m{};
+  // The raw distance quantities median-filtered over the last CorridorRunOptions::
+  // distance_median_frames frames of forward driving (the paper filters TTC with a median), and
+  // the distances the options' models give for them; their weighted average.
+  std::array<std::optional<double>, corridor::kDistanceCueCount> dist_filtered_raw{};
+  std::array<std::optional<double>, corridor::kDistanceCueCount> dist_filtered_m{};
+  std::optional<double> filtered_dist_m;
   std::optional<double> fused_heading_deg;  // the Perceiver's weighted average
   std::optional<double> fused_dist_m;
   std::optional<double> kalman_heading_deg;  // the Kalman filter over the cues, odometry as process
@@ -112,6 +118,9 @@ struct CorridorRunOptions {
   // less than max_turn_deg.
   double min_forward_m = 1e-3;
   double max_turn_deg = 0.5;
+  // Window of the running median over each distance cue's raw value (1 = no filtering). The
+  // window restarts whenever the robot stops driving forward.
+  std::size_t distance_median_frames = 9;
 };
 
 // Runs both passes over every frame. `progress(i)` is called after each frame when given.
