@@ -54,7 +54,10 @@ AvoidSequenceScore EvaluateAvoidSequence(const std::filesystem::path& path, cons
   AvoidSequenceScore score;
   score.name = seq.Info().name.empty() ? path.filename().string() : seq.Info().name;
   score.pairs = seq.Size() > 0 ? seq.Size() - 1 : 0;
-  obstacles::PolarMapper truth_mapper(seq.Camera(), options.avoid.polar);
+  // The true map has no features: its free sectors are the ones in view without true contacts.
+  obstacles::PolarMapOptions truth_polar = options.avoid.polar;
+  truth_polar.free_needs_ground = false;
+  obstacles::PolarMapper truth_mapper(seq.Camera(), truth_polar);
   std::vector<obstacles::Gap> truth_gaps;
   const double roi = options.avoid.polar.roi_radius_m;
   RunAvoidOnSequence(
