@@ -404,7 +404,7 @@ Command Explorer::FollowStep(const Percept& p) {
     if (moved < opt_.stall_min_progress_m) {
       Emit(ExploreEvent::Kind::kStall, p, 0, "no wheel progress: backing off");
       state_ = ExploreState::kBackOff;
-      backoff_until_s_ = p.stamp_s + 1.0;
+      backoff_until_s_ = p.stamp_s + 2.0;
       return {};
     }
   }
@@ -431,7 +431,7 @@ Command Explorer::FollowStep(const Percept& p) {
 // --- Back off -------------------------------------------------------------------------------
 
 Command Explorer::BackOffStep(const Percept& p) {
-  if (p.stamp_s < backoff_until_s_) return {-0.15, 0.0};
+  if (p.stamp_s < backoff_until_s_) return {-0.2, 0.0};
   // Treat the blockage like the end of the corridor: look and choose.
   ++ends_;
   last_ref_entropy_ = ReferenceEntropy();

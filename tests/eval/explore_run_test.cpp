@@ -1,0 +1,157 @@
+// The closed loop on small worlds: a short corridor the robot must drive to its far end without
+// collision; a closed box where exploration cannot proceed (a clear outcome, bounded time);
+// coverage and seeded starts on known geometry.
+#include "squint/eval/explore_run.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "squint/core/angles.hpp"
+#include "squint/core/error.hpp"
+
+namespace squint::eval {
+namespace {
+
+// A 14 m dead-end corridor with a centre row of lights; the robot starts 1.5 m from one end.
+constexpr const char* kShortCorridor = R"(
+format: squint-world/1
+name: short
+camera: {height_m: 0.6, pitch_deg: -3.0, hfov_deg: 60.0, width: 320, height: 240}
+robot: {radius_m: 0.25, max_speed_mps: 0.6, max_turn_rate_dps: 90, start: [1.5, 0.0, 0.0]}
+corridors:
+  - name: main
+    from: [0, 0]
+    to: [14, 0]
+    width_m: 2.0
+    height_m: 2.8
+    floor: tiles
+    wall: paint
+    lights: {rows: centre, spacing_m: 3.0, size_m: [1.2, 0.3]}
+    features:
+      - {kind: door, side: left, at_m: 4, repeat_every_m: 5, count: 2}
+      - {kind: door, side: right, at_m: 6}
+)";
+
+// A 2 m × 2 m closed box: nowhere to go.
+constexpr const char* kBox = R"(
+format: squint-world/1
+name: box
+camera: {height_m: 0.6, pitch_deg: -3.0, hfov_deg: 60.0, width: 320, height: 240}
+robot: {radius_m: 0.25, max_speed_mps: 0.6, max_turn_rate_dps: 90, start: [0.5, 0.0, 0.0]}
+corridors:
+  - name: cell
+    from: [0, 0]
+    to: [1, 0]
+    width_m: 2.0
+    height_m: 2.8
+    lights: {rows: centre, spacing_m: 3.0, size_m: [0.6, 0.3]}
+)";
+
+TEST(ExploreRun, ShortCorridorReachesTheFarEndWithoutCollision) {
+  const sim::World world = sim::ParseWorld(kShortCorridor, "test:short");
+  ExploreRunOptions opt;
+  opt.minutes = 1.0;
+  opt.seed = 3;
+  const ExploreRunResult run = RunExplore(world, opt);
+  double max_x = 0.0;
+  for (const Pose2& p : run.true_path) max_x = std::max(max_x, p.x);
+  // The far end wall is at x = 15 (the floor reaches width/2 beyond the end point).
+  EXPECT_GT(max_x, 12.0) << run.summary.outcome;
+  EXPECT_EQ(run.summary.collisions, 0) << run.summary.outcome;
+  EXPECT_GE(run.summary.ends_detected, 1);
+  EXPECT_GE(run.summary.turns, 1);
+  EXPECT_TRUE(run.summary.proceeded);
+  EXPECT_EQ(run.summary.frames, 1800);
+  EXPECT_LT(run.summary.frames_fully_processed, run.summary.frames);
+  EXPECT_GT(run.summary.coverage, 0.8);
+  EXPECT_EQ(run.trace.size(), 1800u);
+}
+
+TEST(ExploreRun, SameSeedSameRun) {
+  const sim::World world = sim::ParseWorld(kShortCorridor, "test:short");
+  ExploreRunOptions opt;
+  opt.minutes = 0.3;
+  const ExploreRunResult a = RunExplore(world, opt);
+  const ExploreRunResult b = RunExplore(world, opt);
+  ASSERT_EQ(a.true_path.size(), b.true_path.size());
+  EXPECT_EQ(a.true_path.back().x, b.true_path.back().x);
+  EXPECT_EQ(a.true_path.back().yaw, b.true_path.back().yaw);
+  EXPECT_EQ(SummaryJson(a.summary).substr(0, 200), SummaryJson(b.summary).substr(0, 200));
+}
+
+TEST(ExploreRun, ClosedBoxEndsWithAClearMessageWithinTheBudget) {
+  const sim::World world = sim::ParseWorld(kBox, "test:box");
+  ExploreRunOptions opt;
+  opt.minutes = 0.5;
+  const ExploreRunResult run = RunExplore(world, opt);
+  EXPECT_NEAR(run.summary.sim_seconds, 30.0, 0.1);
+  EXPECT_FALSE(run.summary.proceeded);
+  EXPECT_NE(run.summary.outcome.find("could not proceed"), std::string::npos) << run.summary.outcome;
+  // The map is still drawn.
+  const cv::Mat map = DrawExploreMap(world, run);
+  EXPECT_GT(map.cols, 10);
+  EXPECT_GT(map.rows, 10);
+}
+
+TEST(ExploreRun, CoverageOfKnownPaths) {
+  const sim::World world = sim::ParseWorld(kShortCorridor, "test:short");
+  std::vector<Pose2> full, half, off;
+  for (double x = 0.0; x <= 14.0; x += 0.05) full.push_back({x, 0.0, 0.0});
+  for (double x = 0.0; x <= 7.0; x += 0.05) half.push_back({x, 0.3, 0.0});
+  for (double x = 0.0; x <= 14.0; x += 0.05) off.push_back({x, 1.5, 0.0});  // outside half the width
+  EXPECT_NEAR(CorridorCoverage(world, full), 1.0, 1e-9);
+  EXPECT_NEAR(CorridorCoverage(world, half), 0.5 + 0.95 / 14.0, 0.02);  // reach: sqrt(1 - 0.3²) ahead
+  EXPECT_NEAR(CorridorCoverage(world, off), 0.0, 1e-9);
+  EXPECT_EQ(CorridorCoverage(world, {}), 0.0);
+}
+
+TEST(ExploreRun, SeededStartsAreFreeDeterministicAndIncludeTheHardCases) {
+  const sim::World world = sim::LoadWorld("default");
+  const std::vector<Pose2> a = SeededStarts(world, 10, 5);
+  const std::vector<Pose2> b = SeededStarts(world, 10, 5);
+  ASSERT_EQ(a.size(), 10u);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].x, b[i].x);
+    EXPECT_EQ(a[i].yaw, b[i].yaw);
+    EXPECT_GT(world.DistanceToWalls(a[i].Translation()), world.robot.radius_m) << i;
+  }
+  EXPECT_EQ(a[0].x, world.start.x);
+  // Start 1 faces a side wall: its yaw is perpendicular to some corridor axis (a multiple of 90°
+  // away from the start's axis-aligned corridors) and start 2 is within 0.2 m of the wall clearance.
+  EXPECT_NEAR(std::abs(std::remainder(RadToDeg(a[1].yaw), 90.0)), 0.0, 1e-6);
+  EXPECT_LT(world.DistanceToWalls(a[2].Translation()), world.robot.radius_m + 0.2);
+}
+
+TEST(ExploreRun, OutputsAreWritten) {
+  const sim::World world = sim::ParseWorld(kShortCorridor, "test:short");
+  ExploreRunOptions opt;
+  opt.minutes = 0.2;
+  const ExploreRunResult run = RunExplore(world, opt);
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "squint_explore_run_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  WriteExploreOutputs(dir, world, run);
+  EXPECT_TRUE(std::filesystem::exists(dir / "map.png"));
+  std::ifstream csv(dir / "trace.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("t_s,true_x_m,true_y_m,true_yaw_deg,odom_x_m", 0), 0u);
+  std::ifstream js(dir / "summary.json");
+  const std::string text((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
+  for (const char* key : {"sim_seconds", "distance_m", "collisions", "coverage", "ends_detected", "turns", "frames",
+                          "frames_fully_processed", "perception_cpu_seconds", "wall_seconds"})
+    EXPECT_NE(text.find(std::string("\"") + key + "\""), std::string::npos) << key;
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ExploreRun, InvalidOptionsAreAClearError) {
+  const sim::World world = sim::ParseWorld(kShortCorridor, "test:short");
+  ExploreRunOptions opt;
+  opt.minutes = -1.0;
+  EXPECT_THROW(RunExplore(world, opt), Error);
+}
+
+}  // namespace
+}  // namespace squint::eval
