@@ -3,7 +3,9 @@
 #include "squint/obstacles/feature_tracker.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <sstream>
+#include <utility>
 
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -57,6 +59,18 @@ std::string FeatureOptions::Validate() const {
 
 namespace {
 
+// Byte-for-byte equality of two images (same size and type). Trackers keep a copy of the last later
+// frame: when the next pair's earlier frame equals it (a stream of consecutive pairs), that frame's
+// detection is reused instead of recomputed. Comparing contents (≈50 kB at 256×192, a few µs) rather
+// than data pointers keeps this correct when the caller reuses one buffer for new frames.
+bool SameImage(const cv::Mat& a, const cv::Mat& b) {
+  if (a.empty() || b.empty() || a.size() != b.size() || a.type() != b.type()) return false;
+  const std::size_t row_bytes = static_cast<std::size_t>(a.cols) * a.elemSize();
+  for (int r = 0; r < a.rows; ++r)
+    if (std::memcmp(a.ptr(r), b.ptr(r), row_bytes) != 0) return false;
+  return true;
+}
+
 bool CloseEnough(const cv::Point2f& a, const cv::Point2f& b, double max_px) {
   const double dx = a.x - b.x, dy = a.y - b.y;
   return dx * dx + dy * dy <= max_px * max_px;
@@ -73,9 +87,19 @@ class DescriptorTracker : public FeatureTracker {
 
   void Track(const cv::Mat& previous, const cv::Mat& current, std::vector<Match>* matches) override {
     matches->clear();
-    feature_->detectAndCompute(previous, cv::noArray(), kp_prev_, desc_prev_);
+    if (SameImage(previous, last_current_)) {  // streaming: the earlier frame was the last later one
+      std::swap(kp_prev_, kp_cur_);
+      cv::swap(desc_prev_, desc_cur_);
+    } else {
+      feature_->detectAndCompute(previous, cv::noArray(), kp_prev_, desc_prev_);
+    }
     feature_->detectAndCompute(current, cv::noArray(), kp_cur_, desc_cur_);
+    current.copyTo(last_current_);
     if (kp_prev_.size() < 2 || kp_cur_.size() < 2) return;
+    // OpenCV's knnMatch appends to its output: clear the buffers kept from the last pair, or stale
+    // rows from earlier pairs index into this pair's keypoints.
+    knn_.clear();
+    back_.clear();
     matcher_.knnMatch(desc_cur_, desc_prev_, knn_, 2);
     matcher_.match(desc_prev_, desc_cur_, back_);
     for (const auto& pair : knn_) {
@@ -99,6 +123,7 @@ class DescriptorTracker : public FeatureTracker {
   FeatureOptions options_;
   std::vector<cv::KeyPoint> kp_prev_, kp_cur_;
   cv::Mat desc_prev_, desc_cur_;
+  cv::Mat last_current_;  // copy of the last later frame (kp_cur_, desc_cur_ are its detection)
   std::vector<std::vector<cv::DMatch>> knn_;
   std::vector<cv::DMatch> back_;
   std::vector<cv::Point2f> from_, to_, start_;
@@ -139,8 +164,12 @@ class KltTracker : public FeatureTracker {
     if (corners_.empty()) return;
     const cv::Size window(options_.klt_window_px, options_.klt_window_px);
     const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 0.03);
-    cv::buildOpticalFlowPyramid(previous, pyr_prev_, window, options_.klt_levels);
+    if (SameImage(previous, last_current_))  // streaming: reuse the last later frame's pyramid
+      std::swap(pyr_prev_, pyr_cur_);
+    else
+      cv::buildOpticalFlowPyramid(previous, pyr_prev_, window, options_.klt_levels);
     cv::buildOpticalFlowPyramid(current, pyr_cur_, window, options_.klt_levels);
+    current.copyTo(last_current_);
     cv::calcOpticalFlowPyrLK(pyr_prev_, pyr_cur_, corners_, tracked_, status_, err_, window, options_.klt_levels,
                              term);
     back_ = corners_;
@@ -160,6 +189,7 @@ class KltTracker : public FeatureTracker {
   FeatureOptions options_;
   std::vector<cv::Point2f> corners_, tracked_, back_;
   std::vector<cv::Mat> pyr_prev_, pyr_cur_;
+  cv::Mat last_current_;  // copy of the last later frame (pyr_cur_ is its pyramid)
   std::vector<unsigned char> status_, status_back_;
   std::vector<float> err_;
 };
