@@ -87,6 +87,8 @@ std::string HeadingOptions::Validate() const {
   if (!Finite(max_abs_heading_deg) || max_abs_heading_deg <= 0.0 || max_abs_heading_deg >= 90.0)
     e << "heading.max_abs_heading_deg must be in (0, 90); ";
   if (!Finite(agreement_deg) || agreement_deg <= 0.0) e << "heading.agreement_deg must be > 0; ";
+  if (min_consensus_cues < 1 || min_consensus_cues > kHeadingCueCount)
+    e << "heading.min_consensus_cues must be in [1, " << kHeadingCueCount << "]; ";
   if (!Finite(fallback_deg_per_column) || fallback_deg_per_column <= 0.0)
     e << "heading.fallback_deg_per_column must be > 0; ";
   std::string s = e.str();

@@ -136,7 +136,9 @@ PerceptionResult Perceiver::ProcessGlance(const Glance& glance, std::optional<do
 void Perceiver::Fuse(PerceptionResult& result) const {
   // Heading: the cue estimate with the most weight within agreement_deg of it, then the weighted
   // mean of those within agreement_deg (a consensus), so that one cue peaking on a lit wall
-  // cannot drag the answer.
+  // cannot drag the answer. A consensus needs min_consensus_cues cues; when no group that large
+  // exists the cues disagree and no single one is trusted: the answer is the weighted mean of
+  // all of them (a compromise that is never further from the truth than the worst cue).
   struct Candidate {
     double deg;
     double weight;
@@ -153,19 +155,22 @@ void Perceiver::Fuse(PerceptionResult& result) const {
     total += w;
   }
   if (n > 0 && total > 0.0) {
-    // The candidate with the most weight within agreement_deg of it (ties: the first).
-    int centre = 0;
+    const double tol = options_.heading.agreement_deg;
+    const int min_cues = std::min(options_.heading.min_consensus_cues, n);
+    // The candidate with the most weight within tol of it and at least min_cues members
+    // (ties: the first); -1 when there is none.
+    int centre = -1;
     double best_support = -1.0;
     for (int k = 0; k < n; ++k) {
       double support = 0.0;
+      int members = 0;
       for (int m = 0; m < n; ++m)
-        if (std::abs(c[m].deg - c[k].deg) <= options_.heading.agreement_deg) support += c[m].weight;
-      if (support > best_support) best_support = support, centre = k;
+        if (std::abs(c[m].deg - c[k].deg) <= tol) support += c[m].weight, ++members;
+      if (members >= min_cues && support > best_support) best_support = support, centre = k;
     }
-    const double median = c[centre].deg;
     double sw = 0.0, swd = 0.0;
     for (int k = 0; k < n; ++k) {
-      if (std::abs(c[k].deg - median) > options_.heading.agreement_deg) continue;
+      if (centre >= 0 && std::abs(c[k].deg - c[centre].deg) > tol) continue;
       sw += c[k].weight;
       swd += c[k].weight * c[k].deg;
       result.heading[c[k].cue].fused = true;

@@ -135,6 +135,11 @@ TEST(Perceiver, RejectsInvalidOptions) {
   options = {};
   options.distance.max_m = -1.0;
   EXPECT_FALSE(options.Validate().empty());
+  options = {};
+  options.heading.min_consensus_cues = 0;
+  EXPECT_NE(options.Validate().find("min_consensus_cues"), std::string::npos);
+  options.heading.min_consensus_cues = kHeadingCueCount + 1;
+  EXPECT_NE(options.Validate().find("min_consensus_cues"), std::string::npos);
 }
 
 TEST(Perceiver, FallbackScaleWithoutIntrinsics) {

@@ -22,9 +22,12 @@ struct HeadingCueOptions {
 struct HeadingOptions {
   // Per cue, indexed by HeadingCue. The paper (§5.1) found bright pixels and entropy most
   // accurate on its corridors; on the ray-traced dev corridors (../shared/data/orient-*)
-  // symmetry and the vanishing point are, and entropy is often inverted, hence these weights.
+  // symmetry and the vanishing point are, hence these weights. Entropy is off (weight 0, not
+  // computed): on orient-* its sign is wrong on 59% of the frames with |heading| >= 5 deg (it
+  // peaks on the textured near wall), so it can only pull the consensus the wrong way; give it
+  // a weight (paper: the best cue) on corridors with plain walls and a lit far end.
   std::array<HeadingCueOptions, kHeadingCueCount> cues = {{
-      {.weight = 0.25},  // entropy: on the dev data it peaks on textured near walls
+      {.weight = 0.0},   // entropy: inverted on the dev data (see above)
       {.weight = 2.0},   // symmetry
       {.weight = 0.5},   // phase
       {.weight = 1.5},   // vanishing
@@ -68,6 +71,10 @@ struct HeadingOptions {
   // weighted median; the others are outliers. The fused heading is the weighted mean of the
   // consensus.
   double agreement_deg = 6.0;
+  // A consensus needs at least this many cues (capped at the number available). With 2 one
+  // cue alone, which is wrong far more often than two agreeing ones, never decides; when no two
+  // cues agree the fused heading is the weighted mean of all of them. 1 = the heaviest group.
+  int min_consensus_cues = 2;
   // Used only when the camera has no intrinsics: heading = deg_per_column * (u - centre).
   double fallback_deg_per_column = 1.75;
 
