@@ -94,6 +94,7 @@ void ReadHeading(const YAML::Node& node, const std::string& source, corridor::He
   r.Get("phase_max_deg", h.phase_max_deg);
   r.Get("max_abs_heading_deg", h.max_abs_heading_deg);
   r.Get("agreement_deg", h.agreement_deg);
+  r.Get("min_consensus_cues", h.min_consensus_cues);
   r.Get("fallback_deg_per_column", h.fallback_deg_per_column);
   r.CheckUnknown();
 }
@@ -205,6 +206,7 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
   e << YAML::Key << "phase_max_deg" << YAML::Value << h.phase_max_deg;
   e << YAML::Key << "max_abs_heading_deg" << YAML::Value << h.max_abs_heading_deg;
   e << YAML::Key << "agreement_deg" << YAML::Value << h.agreement_deg;
+  e << YAML::Key << "min_consensus_cues" << YAML::Value << h.min_consensus_cues;
   e << YAML::Key << "fallback_deg_per_column" << YAML::Value << h.fallback_deg_per_column;
   e << YAML::EndMap;
   const auto& d = o.distance;

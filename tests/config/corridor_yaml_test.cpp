@@ -23,6 +23,7 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   o.heading.cues[2].enabled = false;
   o.heading.slice_width_px = 5;
   o.heading.agreement_deg = 7.25;
+  o.heading.min_consensus_cues = 3;
   o.heading.max_abs_heading_deg = 33.0;
   o.distance.weights = {3.0, 0.5, 0.25};
   o.distance.enabled[1] = false;
@@ -44,6 +45,7 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   EXPECT_EQ(back.heading.cues[0].bias_deg, -2.5);
   EXPECT_FALSE(back.heading.cues[2].enabled);
   EXPECT_EQ(back.heading.slice_width_px, 5);
+  EXPECT_EQ(back.heading.min_consensus_cues, 3);
   EXPECT_EQ(back.distance.weights, o.distance.weights);
   EXPECT_EQ(back.distance.enabled, o.distance.enabled);
   EXPECT_EQ(back.distance.alpha2, 123.5);
