@@ -3,8 +3,12 @@
 #include "squint/corridor/heading_measures.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "curve_peak.hpp"
 #include "squint/core/error.hpp"
@@ -34,19 +38,41 @@ void SetFromPeak(const detail::Peak& peak, HeadingMeasureResult& out) {
   out.reason = Reason::kNone;
 }
 
+// Bit k set when counts[k] != 0, for count ≤ 64 counts.
+inline std::uint64_t OccupiedMask(const std::uint16_t* counts, int count) {
+  std::uint64_t mask = 0;
+  int k = 0;
+#if defined(__SSE2__)
+  const __m128i zero = _mm_setzero_si128();
+  for (; k + 16 <= count; k += 16) {
+    const __m128i lo = _mm_cmpeq_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(counts + k)), zero);
+    const __m128i hi = _mm_cmpeq_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(counts + k + 8)), zero);
+    const unsigned empty = static_cast<unsigned>(_mm_movemask_epi8(_mm_packs_epi16(lo, hi)));
+    mask |= static_cast<std::uint64_t>(~empty & 0xFFFFu) << k;
+  }
+#endif
+  for (; k < count; ++k) mask |= static_cast<std::uint64_t>(counts[k] != 0) << k;
+  return mask;
+}
+
 // Miller–Madow-corrected mutual information from a joint histogram with N < kNLogNTableSize
 // samples, using the n·log n table t: MI = (Σ t(n_ab) − Σ t(n_a) − Σ t(n_b) + t(N)) / N, minus the
 // bias (B_a − 1)(B_b − 1) / 2N of the plug-in estimate (B = occupied bins).
+// Only occupied bins are visited, in ascending index order: t(0) = 0 adds nothing, so the sum is
+// bit-identical to the full scan.
 inline double CorrectedMutualInformation(const std::uint16_t* joint, int bins, std::uint32_t n, const double* t) {
   if (n == 0) return 0.0;
   std::uint32_t row[kMaxVanishingBins] = {}, col[kMaxVanishingBins] = {};
   double s = 0.0;
-  for (int a = 0; a < bins; ++a) {
-    const std::uint16_t* r = joint + a * bins;
-    for (int b = 0; b < bins; ++b) {
-      row[a] += r[b];
-      col[b] += r[b];
-      s += t[r[b]];
+  const int cells = bins * bins;
+  const int bits = std::countr_zero(static_cast<unsigned>(bins));
+  for (int base = 0; base < cells; base += 64) {
+    for (std::uint64_t mask = OccupiedMask(joint + base, std::min(64, cells - base)); mask != 0; mask &= mask - 1) {
+      const int k = base + std::countr_zero(mask);
+      const std::uint16_t c = joint[k];
+      row[k >> bits] += c;
+      col[k & (bins - 1)] += c;
+      s += t[c];
     }
   }
   int ra = 0, cb = 0;
@@ -112,18 +138,32 @@ void SymmetryHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& out
   int first = kW, last = -1;
   for (int x = dmin; x <= kW - 1 - dmin; ++x) {
     const int d_max = std::min({options_.symmetry_half_width_px, x, kW - 1 - x});
-    std::uint16_t joint[kMaxColumnBins * kMaxColumnBins] = {};
-    std::uint16_t joint2[kMaxColumnBins * kMaxColumnBins] = {};
-    for (int v = 0; v < kH; v += 2) {
-      const std::uint8_t* row = g.column_level.data() + v * kW;
-      const std::uint8_t* row2 = row + kW;
+    // Four interleaved histograms (one per row of a group of four) break the store-to-load
+    // chains of neighbouring pairs, which usually fall in the same bin.
+    // They are packed with stride bins², so only the used part is cleared.
+    std::uint16_t joint[4][kMaxColumnBins * kMaxColumnBins];
+    if (bins <= 8)
+      std::memset(joint, 0, sizeof(std::uint16_t) * 4 * 64);  // fixed size: inlined stores
+    else
+      std::memset(joint, 0, sizeof(std::uint16_t) * 4 * bins * bins);
+    std::uint16_t* j0 = joint[0];
+    std::uint16_t* j1 = j0 + bins * bins;
+    std::uint16_t* j2 = j1 + bins * bins;
+    std::uint16_t* j3 = j2 + bins * bins;
+    for (int v = 0; v < kH; v += 4) {
+      const std::uint8_t* r0 = g.column_level.data() + v * kW + x;
+      const std::uint8_t* r1 = r0 + kW;
+      const std::uint8_t* r2 = r1 + kW;
+      const std::uint8_t* r3 = r2 + kW;
       for (int d = 1; d <= d_max; ++d) {
-        ++joint[row[x - d] * bins + row[x + d]];
-        ++joint2[row2[x - d] * bins + row2[x + d]];
+        ++j0[r0[-d] * bins + r0[d]];
+        ++j1[r1[-d] * bins + r1[d]];
+        ++j2[r2[-d] * bins + r2[d]];
+        ++j3[r3[-d] * bins + r3[d]];
       }
     }
-    for (int k = 0; k < bins * bins; ++k) joint[k] = static_cast<std::uint16_t>(joint[k] + joint2[k]);
-    const double mi = CorrectedMutualInformation(joint, bins, static_cast<std::uint32_t>(d_max * kH), table);
+    for (int k = 0; k < bins * bins; ++k) j0[k] = static_cast<std::uint16_t>(j0[k] + j1[k] + j2[k] + j3[k]);
+    const double mi = CorrectedMutualInformation(j0, bins, static_cast<std::uint32_t>(d_max * kH), table);
     out.curve[x] = static_cast<float>(mi);
     lowest = any ? std::min(lowest, out.curve[x]) : out.curve[x];
     any = true;
@@ -241,19 +281,28 @@ void VanishingHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& ou
   const double* table = NLogNTable();
   auto evaluate = [&](int ox, int oy) -> float {
     if (done[ox][oy]) return score[ox][oy];
-    // Two interleaved histograms halve the store-to-load chains on repeated bins.
-    std::uint16_t joint[kMaxVanishingBins * kMaxVanishingBins] = {};
-    std::uint16_t joint2[kMaxVanishingBins * kMaxVanishingBins] = {};
+    // Four interleaved histograms break the store-to-load chains on repeated bins.
+    std::uint16_t joint[4][kMaxVanishingBins * kMaxVanishingBins];
+    if (bins <= 8)
+      std::memset(joint, 0, sizeof(std::uint16_t) * 4 * 64);  // fixed size: inlined stores
+    else
+      std::memset(joint, 0, sizeof(std::uint16_t) * 4 * bins * bins);
+    std::uint16_t* j0 = joint[0];
+    std::uint16_t* j1 = joint[0] + bins * bins;
+    std::uint16_t* j2 = j1 + bins * bins;
+    std::uint16_t* j3 = j2 + bins * bins;
     for (int j = 0; j < kSh; ++j) {
       const std::uint8_t* a = small + j * kSw;
       const std::uint8_t* b = level + (oy + j) * kW + ox;
-      for (int i = 0; i < kSw; i += 2) {
-        ++joint[a[i] + b[i]];
-        ++joint2[a[i + 1] + b[i + 1]];
+      for (int i = 0; i < kSw; i += 4) {
+        ++j0[a[i] + b[i]];
+        ++j1[a[i + 1] + b[i + 1]];
+        ++j2[a[i + 2] + b[i + 2]];
+        ++j3[a[i + 3] + b[i + 3]];
       }
     }
-    for (int k = 0; k < bins * bins; ++k) joint[k] = static_cast<std::uint16_t>(joint[k] + joint2[k]);
-    const float mi = static_cast<float>(CorrectedMutualInformation(joint, bins, kSw * kSh, table));
+    for (int k = 0; k < bins * bins; ++k) j0[k] = static_cast<std::uint16_t>(j0[k] + j1[k] + j2[k] + j3[k]);
+    const float mi = static_cast<float>(CorrectedMutualInformation(j0, bins, kSw * kSh, table));
     done[ox][oy] = true;
     score[ox][oy] = mi;
     return mi;
