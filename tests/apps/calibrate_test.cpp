@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 #include <sstream>
 #include <string>
+#include <unistd.h>
 
 #include "squint/io/sequence.hpp"
 
@@ -21,7 +22,7 @@ struct Result {
 };
 
 Result RunSquint(const std::string& args) {
-  const fs::path log = fs::temp_directory_path() / "squint_calibrate_test.log";
+  const fs::path log = fs::temp_directory_path() / ("squint_calibrate_test-" + std::to_string(::getpid()) + ".log");
   const std::string cmd = std::string(SQUINT_BINARY) + " " + args + " > " + log.string() + " 2>&1";
   const int status = std::system(cmd.c_str());
   Result r;
@@ -30,6 +31,8 @@ Result RunSquint(const std::string& args) {
   std::stringstream ss;
   ss << in.rdbuf();
   r.out = ss.str();
+  in.close();
+  fs::remove(log);
   return r;
 }
 

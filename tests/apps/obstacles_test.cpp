@@ -7,13 +7,14 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <unistd.h>
 
 namespace {
 
 namespace fs = std::filesystem;
 
 int RunSquint(const std::string& args, std::string* err = nullptr) {
-  const fs::path log = fs::temp_directory_path() / "squint_obstacles_test.log";
+  const fs::path log = fs::temp_directory_path() / ("squint_obstacles_test-" + std::to_string(::getpid()) + ".log");
   const int rc = std::system((std::string(SQUINT_BINARY) + " " + args + " 2> " + log.string()).c_str());
   if (err) {
     std::ifstream in(log);
@@ -21,6 +22,8 @@ int RunSquint(const std::string& args, std::string* err = nullptr) {
     s << in.rdbuf();
     *err = s.str();
   }
+  std::error_code ec;
+  fs::remove(log, ec);
   return WEXITSTATUS(rc);
 }
 

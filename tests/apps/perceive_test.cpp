@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -29,7 +30,7 @@ fs::path TempDir(const std::string& name) {
 }
 
 int RunSquint(const std::string& args, std::string* err = nullptr) {
-  const fs::path log = fs::temp_directory_path() / "squint_perceive_test.log";
+  const fs::path log = fs::temp_directory_path() / ("squint_perceive_test-" + std::to_string(::getpid()) + ".log");
   const int rc = std::system((std::string(SQUINT_BINARY) + " " + args + " 2> " + log.string()).c_str());
   if (err) {
     std::ifstream in(log);
@@ -37,6 +38,8 @@ int RunSquint(const std::string& args, std::string* err = nullptr) {
     s << in.rdbuf();
     *err = s.str();
   }
+  std::error_code ec;
+  fs::remove(log, ec);
   return WEXITSTATUS(rc);
 }
 
