@@ -13,6 +13,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "cli_run.hpp"
 #include "squint/io/sequence.hpp"
 
 namespace {
@@ -29,19 +30,7 @@ fs::path TempDir(const std::string& name) {
   return p;
 }
 
-int RunSquint(const std::string& args, std::string* err = nullptr) {
-  const fs::path log = fs::temp_directory_path() / ("squint_perceive_test-" + std::to_string(::getpid()) + ".log");
-  const int rc = std::system((std::string(SQUINT_BINARY) + " " + args + " 2> " + log.string()).c_str());
-  if (err) {
-    std::ifstream in(log);
-    std::stringstream s;
-    s << in.rdbuf();
-    *err = s.str();
-  }
-  std::error_code ec;
-  fs::remove(log, ec);
-  return WEXITSTATUS(rc);
-}
+using squint::test::RunSquint;
 
 // Five frames of a radial corridor pattern whose contrast changes from frame to frame (so the
 // whole-glance entropy changes by more than the gate's 1%), except that frame 3 repeats frame 2.
@@ -90,7 +79,7 @@ std::vector<std::string> Split(const std::string& s) {
 TEST(PerceiveCli, WritesOneRowPerFrameWithTheExactHeader) {
   const fs::path seq = WriteSequence("ok");
   const fs::path out = TempDir("ok.csv");
-  ASSERT_EQ(RunSquint("perceive " + seq.string() + " --out " + out.string()), 0);
+  ASSERT_EQ(RunSquint("perceive " + seq.string() + " --out " + out.string()).code, 0);
   const auto lines = ReadLines(out);
   ASSERT_EQ(lines.size(), 6u);
   EXPECT_EQ(lines[0].rfind(std::string(kHeader), 0), 0u) << lines[0];
@@ -112,7 +101,7 @@ TEST(PerceiveCli, WritesOneRowPerFrameWithTheExactHeader) {
     }
   }
   // --no-gate processes every frame.
-  ASSERT_EQ(RunSquint("perceive " + seq.string() + " --no-gate --out " + out.string()), 0);
+  ASSERT_EQ(RunSquint("perceive " + seq.string() + " --no-gate --out " + out.string()).code, 0);
   const auto all = ReadLines(out);
   ASSERT_EQ(all.size(), 6u);
   for (int i = 1; i <= 5; ++i) EXPECT_EQ(Split(all[i])[1], "1");
@@ -124,21 +113,23 @@ TEST(PerceiveCli, WritesOneRowPerFrameWithTheExactHeader) {
 
 TEST(PerceiveCli, BadInputsFailCleanlyWithoutOutput) {
   const fs::path out = TempDir("bad.csv");
-  std::string err;
+  squint::test::CliResult r;
   // Missing input.
-  EXPECT_NE(RunSquint("perceive /nonexistent/seq --out " + out.string(), &err), 0);
+  r = RunSquint("perceive /nonexistent/seq --out " + out.string());
+  EXPECT_NE(r.code, 0);
   EXPECT_FALSE(fs::exists(out));
-  EXPECT_NE(err.find("squint: error:"), std::string::npos) << err;
+  EXPECT_NE(r.err.find("squint: error:"), std::string::npos) << r.err;
   // A sequence whose second image is corrupt.
   const fs::path seq = WriteSequence("corrupt");
   {
     std::ofstream f(seq / "images" / "000001.png", std::ios::trunc);
     f << "not a png";
   }
-  EXPECT_NE(RunSquint("perceive " + seq.string() + " --out " + out.string(), &err), 0);
+  r = RunSquint("perceive " + seq.string() + " --out " + out.string());
+  EXPECT_NE(r.code, 0);
   EXPECT_FALSE(fs::exists(out));
-  EXPECT_NE(err.find("000001.png"), std::string::npos) << err;
-  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_NE(r.err.find("000001.png"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   // A bad calibration file.
   const fs::path good = WriteSequence("good");
   const fs::path calib = TempDir("calib.yaml");
@@ -146,9 +137,10 @@ TEST(PerceiveCli, BadInputsFailCleanlyWithoutOutput) {
     std::ofstream f(calib);
     f << "heading: {nonsense: 1}\n";
   }
-  EXPECT_NE(RunSquint("perceive " + good.string() + " --calib " + calib.string() + " --out " + out.string(), &err), 0);
+  r = RunSquint("perceive " + good.string() + " --calib " + calib.string() + " --out " + out.string());
+  EXPECT_NE(r.code, 0);
   EXPECT_FALSE(fs::exists(out));
-  EXPECT_NE(err.find("heading.nonsense"), std::string::npos) << err;
+  EXPECT_NE(r.err.find("heading.nonsense"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -10,27 +10,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "cli_run.hpp"
 #include "squint/io/sequence.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = 0;
-  std::string output;
-};
-
-Result RunSquint(const std::string& args) {
-  const std::string cmd = std::string(SQUINT_BINARY) + " " + args + " 2>&1";
-  Result r;
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[512];
-  while (fgets(buf, sizeof buf, p)) r.output += buf;
-  const int status = pclose(p);
-  r.code = WEXITSTATUS(status);
-  return r;
-}
+using squint::test::CliResult;
+using squint::test::RunSquint;
 
 fs::path TempDir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("squint_sim_cli_" + name + "_" + std::to_string(::getpid()));
@@ -41,8 +29,8 @@ fs::path TempDir(const std::string& name) {
 
 TEST(SimCli, RecordSweepReadsBack) {
   const fs::path dir = TempDir("sweep");
-  const Result r = RunSquint("sim record corridor-3 --protocol sweep --width 64 --height 48 --out " + (dir / "seq").string());
-  ASSERT_EQ(r.code, 0) << r.output;
+  const CliResult r = RunSquint("sim record corridor-3 --protocol sweep --width 64 --height 48 --out " + (dir / "seq").string());
+  ASSERT_EQ(r.code, 0) << r.all();
   const auto seq = squint::io::Sequence::Read(dir / "seq");
   ASSERT_EQ(seq.Size() % 41, 0u);
   EXPECT_EQ(seq.Camera().width, 64);
@@ -56,8 +44,8 @@ TEST(SimCli, RecordSweepReadsBack) {
 
 TEST(SimCli, CreepWritesLabels) {
   const fs::path dir = TempDir("creep");
-  const Result r = RunSquint("sim record obstacle-course --protocol creep --width 64 --height 48 --out " + (dir / "seq").string());
-  ASSERT_EQ(r.code, 0) << r.output;
+  const CliResult r = RunSquint("sim record obstacle-course --protocol creep --width 64 --height 48 --out " + (dir / "seq").string());
+  ASSERT_EQ(r.code, 0) << r.all();
   const auto seq = squint::io::Sequence::Read(dir / "seq");
   EXPECT_TRUE(seq.HasLabels());
   EXPECT_EQ(seq.LoadLabel(0).cols, 64);
@@ -66,15 +54,15 @@ TEST(SimCli, CreepWritesLabels) {
 
 TEST(SimCli, RenderAndMap) {
   const fs::path dir = TempDir("render");
-  Result r = RunSquint("sim render default --pose 5,0,10 --width 64 --height 48 --out " + (dir / "v.png").string());
-  ASSERT_EQ(r.code, 0) << r.output;
+  CliResult r = RunSquint("sim render default --pose 5,0,10 --width 64 --height 48 --out " + (dir / "v.png").string());
+  ASSERT_EQ(r.code, 0) << r.all();
   EXPECT_TRUE(fs::exists(dir / "v.png"));
   r = RunSquint("sim map default --out " + (dir / "m.png").string());
-  ASSERT_EQ(r.code, 0) << r.output;
+  ASSERT_EQ(r.code, 0) << r.all();
   EXPECT_TRUE(fs::exists(dir / "m.png"));
   r = RunSquint("sim render default --pose 5,9,0 --out " + (dir / "w.png").string());
   EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.output.find("outside the floor"), std::string::npos) << r.output;
+  EXPECT_NE(r.all().find("outside the floor"), std::string::npos) << r.all();
   fs::remove_all(dir);
 }
 
@@ -83,9 +71,9 @@ TEST(SimCli, BadWorldFileFailsWithOneLine) {
   const fs::path world = dir / "bad.yaml";
   std::ofstream(world) << "format: squint-world/1\ncorridors: [{from: [0, 0], to: [10, 0]}]\n"
                           "obstacles: [{type: box, at: [5, 0.95]}]\n";
-  const Result r = RunSquint("sim render " + world.string() + " --out " + (dir / "x.png").string());
+  const CliResult r = RunSquint("sim render " + world.string() + " --out " + (dir / "x.png").string());
   EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.output.find("squint: error: " + world.string() + ": obstacles[0] (box)"), std::string::npos) << r.output;
+  EXPECT_NE(r.all().find("squint: error: " + world.string() + ": obstacles[0] (box)"), std::string::npos) << r.all();
   EXPECT_FALSE(fs::exists(dir / "x.png"));
   fs::remove_all(dir);
 }
