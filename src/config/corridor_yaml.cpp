@@ -92,6 +92,11 @@ void ReadHeading(const YAML::Node& node, const std::string& source, corridor::He
   r.Get("bright_max_fraction", h.bright_max_fraction);
   r.Get("phase_min_gradient", h.phase_min_gradient);
   r.Get("phase_max_deg", h.phase_max_deg);
+  r.Get("symmetry_significance", h.symmetry_significance);
+  r.Get("fuse_curves", h.fuse_curves);
+  r.Get("phase_line_vote", h.phase_line_vote);
+  r.Get("phase_min_vertical_deg", h.phase_min_vertical_deg);
+  r.Get("phase_min_horizon_rows", h.phase_min_horizon_rows);
   r.Get("max_abs_heading_deg", h.max_abs_heading_deg);
   r.Get("agreement_deg", h.agreement_deg);
   r.Get("min_consensus_cues", h.min_consensus_cues);
@@ -204,6 +209,11 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
   e << YAML::Key << "bright_max_fraction" << YAML::Value << h.bright_max_fraction;
   e << YAML::Key << "phase_min_gradient" << YAML::Value << h.phase_min_gradient;
   e << YAML::Key << "phase_max_deg" << YAML::Value << h.phase_max_deg;
+  e << YAML::Key << "symmetry_significance" << YAML::Value << h.symmetry_significance;
+  e << YAML::Key << "fuse_curves" << YAML::Value << h.fuse_curves;
+  e << YAML::Key << "phase_line_vote" << YAML::Value << h.phase_line_vote;
+  e << YAML::Key << "phase_min_vertical_deg" << YAML::Value << h.phase_min_vertical_deg;
+  e << YAML::Key << "phase_min_horizon_rows" << YAML::Value << h.phase_min_horizon_rows;
   e << YAML::Key << "max_abs_heading_deg" << YAML::Value << h.max_abs_heading_deg;
   e << YAML::Key << "agreement_deg" << YAML::Value << h.agreement_deg;
   e << YAML::Key << "min_consensus_cues" << YAML::Value << h.min_consensus_cues;

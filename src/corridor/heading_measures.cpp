@@ -133,6 +133,7 @@ void SymmetryHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& out
   const int bins = 1 << options_.column_bits;
   const int dmin = options_.symmetry_min_half_width_px;
   const double* table = NLogNTable();
+  const bool significance = options_.symmetry_significance;
   float lowest = 0.0f;
   bool any = false;
   int first = kW, last = -1;
@@ -164,7 +165,7 @@ void SymmetryHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& out
     }
     for (int k = 0; k < bins * bins; ++k) j0[k] = static_cast<std::uint16_t>(j0[k] + j1[k] + j2[k] + j3[k]);
     const double mi = CorrectedMutualInformation(j0, bins, static_cast<std::uint32_t>(d_max * kH), table);
-    out.curve[x] = static_cast<float>(mi);
+    out.curve[x] = static_cast<float>(significance ? mi * d_max / options_.symmetry_half_width_px : mi);
     lowest = any ? std::min(lowest, out.curve[x]) : out.curve[x];
     any = true;
     first = std::min(first, x);
@@ -186,6 +187,55 @@ void PhaseHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& out) c
   out.cue = Cue();
   out.curve.fill(0.0f);
   if (g.Uniform()) return SetNoEstimate(out, Reason::kUniformFrame);
+  if (options_.phase_line_vote) return MeasureLineVote(g, out);
+  MeasureBalance(g, out);
+}
+
+// Line vote: an edge pixel (u, v) with Sobel gradient (gx, gy) lies on a line of direction
+// (−gy, gx), which crosses the horizon row v_h at x = u − (v_h − v)·gy/gx. The lines of the
+// corridor's parallel edges (wall–floor, wall–ceiling, light rows, floor joints) all cross it at
+// the vanishing point; vertical edges (door frames) would vote for their own column and
+// horizontal ones (the end wall) far outside, so both are left out. Each vote, weighted by the
+// gradient magnitude, is split linearly between the two nearest columns; the curve is the votes
+// smoothed by [1 2 1], and its maximum is the estimate.
+void PhaseHeading::MeasureLineVote(const PreparedGlance& g, HeadingMeasureResult& out) const {
+  const double min_mag = 8.0 * options_.phase_min_gradient;
+  const int min_mag2 = static_cast<int>(std::ceil(min_mag * min_mag));
+  const float tan_vertical =
+      static_cast<float>(std::tan(options_.phase_min_vertical_deg * 3.14159265358979323846 / 180.0));
+  const float horizon = static_cast<float>(horizon_row_ ? *horizon_row_ : (kH - 1) / 2.0);
+  const float min_rows = static_cast<float>(options_.phase_min_horizon_rows);
+  // votes[i + 1] holds column i; the two guard cells take the halves of votes just outside.
+  float votes[kW + 2] = {};
+  float total = 0.0f;
+  for (int v = 1; v < kH - 1; ++v) {
+    const float lever = horizon - static_cast<float>(v);
+    if (std::abs(lever) < min_rows) continue;
+    const std::int16_t* gxr = g.grad_x.data() + v * kW;
+    const std::int16_t* gyr = g.grad_y.data() + v * kW;
+    for (int u = 1; u < kW - 1; ++u) {
+      const int gx = gxr[u], gy = gyr[u];
+      const int m2 = gx * gx + gy * gy;
+      if (m2 < min_mag2 || gx == 0) continue;
+      const float fgx = static_cast<float>(gx), fgy = static_cast<float>(gy);
+      if (std::abs(fgy) < tan_vertical * std::abs(fgx)) continue;  // near-vertical edge
+      const float x = static_cast<float>(u) - lever * fgy / fgx;
+      if (!(x > -1.0f && x < static_cast<float>(kW))) continue;
+      const float w = std::sqrt(static_cast<float>(m2));
+      const float xf = std::floor(x);
+      const int i = static_cast<int>(xf);
+      const float f = x - xf;
+      votes[i + 1] += w * (1.0f - f);
+      votes[i + 2] += w * f;
+      total += w;
+    }
+  }
+  if (!(total > 0.0f)) return SetNoEstimate(out, Reason::kZeroGradient);
+  for (int x = 0; x < kW; ++x) out.curve[x] = votes[x] + 2.0f * votes[x + 1] + votes[x + 2];
+  SetFromPeak(detail::FindPeak(out.curve, 0, kW - 1, options_.border_px, options_.min_prominence), out);
+}
+
+void PhaseHeading::MeasureBalance(const PreparedGlance& g, HeadingMeasureResult& out) const {
   // Sobel units are 8 × grey levels per pixel.
   const double min_mag = 8.0 * options_.phase_min_gradient;
   const int min_mag2 = static_cast<int>(std::ceil(min_mag * min_mag));
@@ -449,7 +499,7 @@ std::unique_ptr<HeadingMeasure> MakeHeadingMeasure(HeadingCue cue, const Heading
   switch (cue) {
     case HeadingCue::kEntropy: return std::make_unique<EntropyHeading>(options);
     case HeadingCue::kSymmetry: return std::make_unique<SymmetryHeading>(options);
-    case HeadingCue::kPhase: return std::make_unique<PhaseHeading>(options);
+    case HeadingCue::kPhase: return std::make_unique<PhaseHeading>(options, horizon_row);
     case HeadingCue::kVanishing: return std::make_unique<VanishingHeading>(options, horizon_row);
     case HeadingCue::kBright: return std::make_unique<BrightHeading>(options);
   }

@@ -84,6 +84,10 @@ std::string HeadingOptions::Validate() const {
   if (!Finite(phase_min_gradient) || phase_min_gradient < 0.0) e << "heading.phase_min_gradient must be >= 0; ";
   if (!Finite(phase_max_deg) || phase_max_deg <= 0.0 || phase_max_deg >= 90.0)
     e << "heading.phase_max_deg must be in (0, 90); ";
+  if (!Finite(phase_min_vertical_deg) || phase_min_vertical_deg < 0.0 || phase_min_vertical_deg >= 90.0)
+    e << "heading.phase_min_vertical_deg must be in [0, 90); ";
+  if (!Finite(phase_min_horizon_rows) || phase_min_horizon_rows < 0.0)
+    e << "heading.phase_min_horizon_rows must be >= 0; ";
   if (!Finite(max_abs_heading_deg) || max_abs_heading_deg <= 0.0 || max_abs_heading_deg >= 90.0)
     e << "heading.max_abs_heading_deg must be in (0, 90); ";
   if (!Finite(agreement_deg) || agreement_deg <= 0.0) e << "heading.agreement_deg must be > 0; ";

@@ -67,6 +67,76 @@ double Perceiver::ColumnToHeadingDeg(double column_px) const {
   return options_.heading.fallback_deg_per_column * (column_px - glance_camera_.cx);
 }
 
+double Perceiver::HeadingDegToColumn(double heading_deg) const {
+  if (has_intrinsics_) return glance_camera_.cx + glance_camera_.fx * std::tan(DegToRad(heading_deg));
+  return glance_camera_.cx + heading_deg / options_.heading.fallback_deg_per_column;
+}
+
+namespace {
+
+// Whether a cue's score curve carries evidence: not for a frame it could not score at all.
+bool CurveUsable(Reason reason) {
+  switch (reason) {
+    case Reason::kNone:
+    case Reason::kFlatCurve:
+    case Reason::kPeakAtBorder:
+    case Reason::kOutOfRange:
+    case Reason::kDegenerateGeometry:
+      return true;
+    default:
+      return false;
+  }
+}
+
+}  // namespace
+
+void Perceiver::FuseHeadingCurves(PerceptionResult& result) const {
+  // Sum over cues of weight × (curve − median) / (max − min), on the glance columns x, whose
+  // (uncalibrated) headings ColumnToHeadingDeg(x) are the fused heading's grid; a calibrated cue's
+  // curve is read at the column whose calibrated heading is that grid heading.
+  std::array<double, kGlanceWidth> sum{};
+  bool any = false;
+  for (int i = 0; i < kHeadingCueCount; ++i) {
+    const HeadingMeasureResult& h = result.heading[i];
+    const HeadingCueOptions& cue = options_.heading.cues[i];
+    if (!cue.enabled || cue.weight <= 0.0 || !CurveUsable(h.reason)) continue;
+    std::array<float, kGlanceWidth> sorted = h.curve;
+    std::nth_element(sorted.begin(), sorted.begin() + kGlanceWidth / 2, sorted.end());
+    const double median = sorted[kGlanceWidth / 2];
+    const auto [lo_it, hi_it] = std::minmax_element(h.curve.begin(), h.curve.end());
+    const double lo = *lo_it, hi = *hi_it;
+    if (!(hi > lo) || !std::isfinite(hi) || !std::isfinite(lo)) continue;
+    const double k = cue.weight / (hi - lo);
+    const bool identity = cue.scale == 1.0 && cue.bias_deg == 0.0;
+    for (int x = 0; x < kGlanceWidth; ++x) {
+      double value = h.curve[x];
+      if (!identity) {
+        const double col = HeadingDegToColumn((ColumnToHeadingDeg(x) - cue.bias_deg) / cue.scale);
+        const double c = std::isfinite(col) ? std::clamp(col, 0.0, kGlanceWidth - 1.0) : 0.0;
+        const int c0 = std::min(static_cast<int>(c), kGlanceWidth - 2);
+        const double f = c - c0;
+        value = (1.0 - f) * h.curve[c0] + f * h.curve[c0 + 1];
+      }
+      sum[x] += k * (value - median);
+    }
+    any = true;
+  }
+  if (!any) return;
+  // The maximum over the columns inside the border (parabolic sub-column refinement).
+  int best = 1;
+  for (int x = 2; x < kGlanceWidth - 1; ++x)
+    if (sum[x] > sum[best]) best = x;
+  double column = best;
+  const double a = sum[best - 1], b = sum[best], c = sum[best + 1];
+  const double denom = a - 2.0 * b + c;
+  if (denom < 0.0) column += std::clamp(0.5 * (a - c) / denom, -0.5, 0.5);
+  const double deg = ColumnToHeadingDeg(column);
+  if (!std::isfinite(deg) || std::abs(deg) > options_.heading.max_abs_heading_deg) return;
+  result.heading_deg = deg;
+  for (HeadingMeasureResult& h : result.heading)
+    h.fused = h.heading_deg && std::abs(*h.heading_deg - deg) <= options_.heading.agreement_deg;
+}
+
 PerceptionResult Perceiver::Process(const PixelView& frame, std::optional<double> travelled_m, double dt_s) {
   Glance glance;
   MakeGlance(frame, options_.sampling, glance);
@@ -134,7 +204,7 @@ PerceptionResult Perceiver::ProcessGlance(const Glance& glance, std::optional<do
 }
 
 void Perceiver::Fuse(PerceptionResult& result) const {
-  // Heading: the cue estimate with the most weight within agreement_deg of it, then the weighted
+  // Heading: by default the sum of the cues' curves (HeadingOptions::fuse_curves); else the cue estimate with the most weight within agreement_deg of it, then the weighted
   // mean of those within agreement_deg (a consensus), so that one cue peaking on a lit wall
   // cannot drag the answer. A consensus needs min_consensus_cues cues; when no group that large
   // exists the cues disagree and no single one is trusted: the answer is the weighted mean of
@@ -154,7 +224,9 @@ void Perceiver::Fuse(PerceptionResult& result) const {
     c[n++] = {*h.heading_deg, w, i};
     total += w;
   }
-  if (n > 0 && total > 0.0) {
+  if (options_.heading.fuse_curves) {
+    FuseHeadingCurves(result);
+  } else if (n > 0 && total > 0.0) {
     const double tol = options_.heading.agreement_deg;
     const int min_cues = std::min(options_.heading.min_consensus_cues, n);
     // The candidate with the most weight within tol of it and at least min_cues members

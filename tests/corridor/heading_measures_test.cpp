@@ -20,12 +20,12 @@ constexpr double kPi = 3.14159265358979323846;
 // A "corridor" seen from its axis: intensity depends only on the direction from the vanishing
 // point (vx, vy), as corridor edges do, so the image is self-similar under scaling about that
 // point; cos(k·θ) with even k is mirror-symmetric about the vertical through it.
-Glance RadialCorridor(double vx, double vy, int k = 6) {
+Glance RadialCorridor(double vx, double vy, int k = 6, double amplitude = 100.0) {
   Glance g;
   for (int v = 0; v < kGlanceHeight; ++v) {
     for (int u = 0; u < kGlanceWidth; ++u) {
       const double theta = std::atan2(v - vy, u - vx);
-      const double value = 128.0 + 100.0 * std::cos(k * theta);
+      const double value = 128.0 + amplitude * std::cos(k * theta);
       g.At(u, v) = static_cast<std::uint8_t>(std::lround(value));
     }
   }
@@ -70,7 +70,8 @@ class EveryHeadingCue : public ::testing::TestWithParam<HeadingCue> {};
 TEST_P(EveryHeadingCue, FindsTheAxisOfASymmetricCorridor) {
   for (double axis : {10.0, 15.0, 19.0}) {
     HeadingOptions options;
-    const auto measure = MakeHeadingMeasure(GetParam(), options);
+    // The glance camera's horizon passes through the corridor's vanishing point (row 9.5).
+    const auto measure = MakeHeadingMeasure(GetParam(), options, 9.5);
     HeadingMeasureResult r;
     measure->Measure(Prepare(CorridorFor(GetParam(), axis)), r);
     ASSERT_TRUE(r.column_px.has_value()) << CueName(GetParam()) << " axis " << axis << ": " << ReasonText(r.reason);
@@ -148,6 +149,84 @@ TEST(PhaseHeading, WeakGradientBelowThresholdIsZeroGradient) {
   HeadingMeasureResult r;
   phase.Measure(Prepare(g), r);
   EXPECT_EQ(r.reason, Reason::kZeroGradient);
+}
+
+TEST(PhaseHeading, LineVoteFindsTheVanishingPointOnTheHorizon) {
+  // Edges radiating from (vx, 9.5) cross the horizon row 9.5 at vx, wherever they are; the
+  // border columns 0 and 31 are excluded (an argmax there may lie outside the view).
+  for (double vx : {3.0, 7.25, 15.0, 22.25, 28.0}) {
+    PhaseHeading phase(HeadingOptions{}, 9.5);
+    HeadingMeasureResult r;
+    phase.Measure(Prepare(RadialCorridor(vx, 9.5)), r);
+    ASSERT_TRUE(r.column_px.has_value()) << vx << ": " << ReasonText(r.reason);
+    EXPECT_NEAR(*r.column_px, vx, 0.5) << vx;
+    EXPECT_GT(r.confidence, 0.5) << vx;
+    const int peak = static_cast<int>(std::lround(vx));
+    EXPECT_EQ(std::max_element(r.curve.begin(), r.curve.end()) - r.curve.begin(), peak) << vx;
+  }
+}
+
+TEST(PhaseHeading, LineVoteIgnoresVerticalEdges) {
+  // Door frames and wall corners (vertical edges) do not run down the corridor: no votes.
+  Glance g;
+  for (int v = 0; v < kGlanceHeight; ++v)
+    for (int u = 0; u < kGlanceWidth; ++u) g.At(u, v) = (u / 4) % 2 ? 210 : 30;
+  PhaseHeading phase(HeadingOptions{}, 11.5);
+  HeadingMeasureResult r;
+  phase.Measure(Prepare(g), r);
+  EXPECT_FALSE(r.column_px.has_value());
+  EXPECT_EQ(r.reason, Reason::kZeroGradient);
+}
+
+TEST(PhaseHeading, LineVoteWithoutACameraUsesTheMiddleRow) {
+  // No horizon given: the lines are extended to the glance's middle row, 11.5.
+  PhaseHeading phase(HeadingOptions{});
+  HeadingMeasureResult r;
+  phase.Measure(Prepare(RadialCorridor(12.0, 11.5)), r);
+  ASSERT_TRUE(r.column_px.has_value()) << ReasonText(r.reason);
+  EXPECT_NEAR(*r.column_px, 12.0, 0.5);
+}
+
+TEST(PhaseHeading, PaperBalanceFormFindsTheAxis) {
+  HeadingOptions options;
+  options.phase_line_vote = false;
+  for (double axis : {10.0, 15.0, 19.0}) {
+    PhaseHeading phase(options);
+    HeadingMeasureResult r;
+    phase.Measure(Prepare(RadialCorridor(axis, 9.5)), r);
+    ASSERT_TRUE(r.column_px.has_value()) << axis << ": " << ReasonText(r.reason);
+    EXPECT_NEAR(*r.column_px, axis, 1.0);
+  }
+}
+
+// A near wall seen at the left border: six horizontal bands (ceiling, wall, skirting, floor...:
+// intensity depends on the row only) in columns 0..6, which mirror onto themselves about
+// column 3; the rest is the corridor's radial pattern (lower contrast) about column 20. Per pair
+// the narrow banded window is the more symmetric (its MI is the whole band entropy), but it
+// holds 3 pairs per row against 8.
+Glance BandedBorderAndCorridor() {
+  Glance g = RadialCorridor(20.0, 11.5, 6, 60.0);
+  for (int v = 0; v < kGlanceHeight; ++v)
+    for (int u = 0; u <= 6; ++u) g.At(u, v) = static_cast<std::uint8_t>(16 + 32 * (v / 4));
+  return g;
+}
+
+TEST(SymmetryHeading, PerPairMutualInformationPrefersABandedBorder) {
+  HeadingOptions options;
+  options.symmetry_significance = false;
+  HeadingMeasureResult r;
+  SymmetryHeading(options).Measure(Prepare(BandedBorderAndCorridor()), r);
+  EXPECT_GT(r.curve[3], r.curve[20]);
+  EXPECT_FALSE(r.column_px.has_value());  // the maximum sits on the first scored column
+  EXPECT_EQ(r.reason, Reason::kPeakAtBorder);
+}
+
+TEST(SymmetryHeading, SignificanceFindsTheCorridorAxisBesideABandedBorder) {
+  HeadingMeasureResult r;
+  SymmetryHeading(HeadingOptions{}).Measure(Prepare(BandedBorderAndCorridor()), r);
+  ASSERT_TRUE(r.column_px.has_value()) << ReasonText(r.reason);
+  EXPECT_NEAR(*r.column_px, 20.0, 1.0);
+  EXPECT_LT(r.curve[3], r.curve[20]);
 }
 
 TEST(EntropyHeading, PeakInTheBorderColumnIsRejected) {

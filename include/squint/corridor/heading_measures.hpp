@@ -33,7 +33,8 @@ class EntropyHeading final : public HeadingMeasure {
 };
 
 // f2: mutual information between the mirrored left and right halves of the window around each
-// column (eq. 2); the maximum is the symmetry axis (§4.1.2).
+// column (eq. 2); the maximum is the symmetry axis (§4.1.2). With options.symmetry_significance
+// the MI is weighted by the window's pair count (see HeadingOptions).
 class SymmetryHeading final : public HeadingMeasure {
  public:
   explicit SymmetryHeading(const HeadingOptions& options) : options_(options) {}
@@ -44,16 +45,24 @@ class SymmetryHeading final : public HeadingMeasure {
   HeadingOptions options_;
 };
 
-// f3: the Sobel gradient phase summed over a vertical slice; the column where the phases balance
-// (minimum |Σ|) is the axis (§4.1.3).
+// f3: aggregate Sobel gradient phase (§4.1.3). By default each edge pixel's phase gives its edge
+// line, and the lines vote for where they cross the horizon row (the vanishing point of the
+// corridor's parallel edges); with options.phase_line_vote = false, the paper's form: the
+// column where the phases of a window balance (minimum |Σ|).
 class PhaseHeading final : public HeadingMeasure {
  public:
-  explicit PhaseHeading(const HeadingOptions& options) : options_(options) {}
+  // `horizon_row`: the glance row of the horizon when the camera is known (else the middle row).
+  explicit PhaseHeading(const HeadingOptions& options, std::optional<double> horizon_row = std::nullopt)
+      : options_(options), horizon_row_(horizon_row) {}
   HeadingCue Cue() const override { return HeadingCue::kPhase; }
   void Measure(const PreparedGlance& glance, HeadingMeasureResult& out) const override;
 
  private:
+  void MeasureLineVote(const PreparedGlance& glance, HeadingMeasureResult& out) const;
+  void MeasureBalance(const PreparedGlance& glance, HeadingMeasureResult& out) const;
+
   HeadingOptions options_;
+  std::optional<double> horizon_row_;
 };
 
 // f4: vanishing point by self-similarity (§4.1.4): the half-size glance is slid over the glance;

@@ -21,17 +21,18 @@ struct HeadingCueOptions {
 
 struct HeadingOptions {
   // Per cue, indexed by HeadingCue. The paper (§5.1) found bright pixels and entropy most
-  // accurate on its corridors; on the ray-traced dev corridors (../shared/data/orient-*)
-  // symmetry and the vanishing point are, hence these weights. Entropy is off (weight 0, not
-  // computed): on orient-* its sign is wrong on 59% of the frames with |heading| >= 5 deg (it
-  // peaks on the textured near wall), so it can only pull the consensus the wrong way; give it
-  // a weight (paper: the best cue) on corridors with plain walls and a lit far end.
+  // accurate on its corridors; on the ray-traced dev corridors (../shared/data/orient-*) and the
+  // simulator's sweeps, symmetry and the phase line vote are (per-cue RMSE / median error on
+  // orient-*: symmetry 10.8 / 1.6 deg, phase 7.2 / 2.1, vanishing 13.7 / 5.9, bright 12.2 / 5.5),
+  // hence these weights. Entropy is off (weight 0, not computed): on orient-* its sign is wrong
+  // on 59% of the frames with |heading| >= 5 deg (it peaks on the textured near wall); give it a
+  // weight (paper: the best cue) on corridors with plain walls and a lit far end.
   std::array<HeadingCueOptions, kHeadingCueCount> cues = {{
       {.weight = 0.0},   // entropy: inverted on the dev data (see above)
       {.weight = 2.0},   // symmetry
-      {.weight = 0.5},   // phase
-      {.weight = 1.5},   // vanishing
-      {.weight = 1.0},   // bright
+      {.weight = 2.0},   // phase (line vote)
+      {.weight = 0.5},   // vanishing
+      {.weight = 0.5},   // bright
   }};
   // Width of the vertical slice around each column for entropy (f1) and phase (f3), pixels.
   int slice_width_px = 3;
@@ -61,15 +62,41 @@ struct HeadingOptions {
   int kmeans_iterations = 10;
   // The bright cluster must hold at most this fraction of the rows' pixels (a lit wall, not lights).
   double bright_max_fraction = 0.5;
-  // Phase (f3): pixels whose Sobel magnitude (grey levels per pixel) is below this are ignored,
-  // and so are near-horizontal edges whose phase |atan(gy/gx)| exceeds phase_max_deg.
-  double phase_min_gradient = 4.0;
+  // Symmetry (f2): score each axis by its mutual information times the number of mirrored pairs
+  // (relative to the widest window), i.e. by the evidence against "left and right independent"
+  // (n·MI is half the G statistic of that test), instead of the per-pair MI of eq. 2. Narrow
+  // windows at the glance border hold few pairs, so a near wall's row banding there (ceiling,
+  // wall, floor bands mirror onto themselves) no longer outscores the corridor's axis.
+  bool symmetry_significance = true;
+  // Phase (f3): pixels whose Sobel magnitude (grey levels per pixel) is below this are ignored.
+  double phase_min_gradient = 2.0;
+  // Phase (f3), how the phases are aggregated. true (default): each edge pixel's phase gives the
+  // direction of its edge line; the lines are extended to the horizon row (the camera's, else the
+  // middle row) and vote, weighted by gradient magnitude, for the column where they cross it: the
+  // corridor's parallel edges all meet at the vanishing point. false: the paper's form, the
+  // column where the mean phase of a window changes sign (min |Σ phase|).
+  bool phase_line_vote = true;
+  // Line vote: edges within this angle of vertical (door frames, wall corners: they do not run
+  // down the corridor) and pixels within phase_min_horizon_rows of the horizon row (their lines
+  // barely constrain the crossing) do not vote.
+  double phase_min_vertical_deg = 20.0;
+  double phase_min_horizon_rows = 2.0;
+  // Phase balance: near-horizontal edges whose phase |atan(gy/gx)| exceeds this are ignored.
   double phase_max_deg = 75.0;
   // Estimates whose |heading| exceeds this are "out of range".
   double max_abs_heading_deg = 40.0;
-  // Fusion: the estimates form a consensus when they lie within this many degrees of the
-  // weighted median; the others are outliers. The fused heading is the weighted mean of the
-  // consensus.
+  // Fusion of the per-cue curves (default): each cue's score curve, normalised to
+  // (curve − median) / (max − min) and resampled onto the glance columns' headings through the
+  // cue's calibration, is added with the cue's weight; the fused heading is the maximum of the
+  // sum. A cue thus also contributes where its own maximum lost narrowly (a runner-up peak on the
+  // corridor's axis, while its maximum sits on a near wall). Cues without a usable curve (uniform
+  // frame, no gradient, no bright cluster, no match) do not contribute. false: the consensus of
+  // the cues' own estimates below (agreement_deg, min_consensus_cues).
+  bool fuse_curves = true;
+  // Consensus fusion: the estimates form a consensus when they lie within this many degrees of
+  // the weighted median; the others are outliers. The fused heading is the weighted mean of the
+  // consensus. With curve fusion, a cue counts as fused when its estimate lies this close to the
+  // fused heading.
   double agreement_deg = 6.0;
   // A consensus needs at least this many cues (capped at the number available). With 2 one
   // cue alone, which is wrong far more often than two agreeing ones, never decides; when no two

@@ -89,6 +89,10 @@ class Perceiver {
 
  private:
   void Fuse(PerceptionResult& result) const;
+  // Heading fusion by the sum of the cues' normalised curves (HeadingOptions::fuse_curves).
+  void FuseHeadingCurves(PerceptionResult& result) const;
+  // Inverse of ColumnToHeadingDeg.
+  double HeadingDegToColumn(double heading_deg) const;
 
   Options options_;
   CameraModel glance_camera_;
