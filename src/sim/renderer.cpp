@@ -30,6 +30,10 @@ constexpr double kLightPanelRadiance = 3.0;  // saturates at default exposure: l
 constexpr double kOffPanelRadiance = 0.10;
 constexpr int kMaxBinObstacles = 12;
 constexpr int kGammaLutSize = 4096;
+// Adaptive supersampling: per-pixel marks of what may lie inside a pixel between its corners.
+constexpr std::uint8_t kMaskGeometry = 1;  // a wall's vertical edge: trace every sample
+constexpr std::uint8_t kMaskPattern = 2;   // a light panel, decal or flat item edge: sample the plane
+constexpr double kMaxShadeRatio = 1.25;    // lighting over a pixel's corners that one shading may cover
 constexpr double kGammaLutMax = 4.0;
 
 std::uint64_t SplitMix(std::uint64_t x) {
@@ -57,6 +61,17 @@ struct Hit {
   double r = kInf;  // horizontal distance from the ray's origin
   double face_u = 0, face_v = 0;
   int face = 0;     // obstacle face index (for shading variety)
+};
+
+// What a hit looks like, without the texture lookup: radiance = texture(mat, tu, tv) * a + b
+// (mat < 0: b alone). key1 names the plane (surface kind and id), key2 the region on it
+// (material and decal / flat item / light panel); `exact` marks what adaptive sampling must
+// not shade from its corners (obstacles, mirrors, stepped ceilings, nothing).
+struct SurfPt {
+  std::uint32_t key1 = 0, key2 = 0;
+  int mat = -1;
+  double tu = 0, tv = 0, a = 0, b = 0;
+  bool exact = false;
 };
 
 }  // namespace
@@ -122,6 +137,17 @@ struct Renderer::Impl {
   // Output.
   std::vector<std::uint8_t> gamma_lut;
   std::vector<float> normal_table;
+  // Adaptive supersampling (n > 1, undistorted camera).
+  bool adaptive = false;
+  std::vector<Sample> corners;       // (width + 1) × (height + 1) rays through the pixel corners
+  std::vector<int> col_bin_lo, col_bin_hi;  // per pixel column: bearing bins its rays may use
+  Eigen::Matrix3d cam_R_robot = Eigen::Matrix3d::Identity();
+  std::vector<SurfPt> corner_pt;     // per frame
+  std::vector<double> corner_r;
+  std::vector<std::uint8_t> mask;    // per pixel: kMaskGeometry | kMaskPattern
+  std::vector<double> col_max_t;     // per pixel column: farthest wall over its bins
+  std::vector<double> col_near;      // per pixel column: nearest obstacle over its bins
+  std::vector<double> bin_near;      // per bin: nearest obstacle bounding circle
   // Per frame.
   double px = 0, py = 0, cyaw = 1, syaw = 0, cam_h = 0, frame_ceiling = 2.8;
 
@@ -159,8 +185,13 @@ struct Renderer::Impl {
     if (n > 1)
       for (int v = 0; v < cam.height; ++v)
         for (int u = 0; u < cam.width; ++u) centres.push_back(make(u, v));
+    adaptive = n > 1 && opt.adaptive && !cam.HasDistortion();
+    corners.clear();
+    if (adaptive)
+      for (int v = 0; v <= cam.height; ++v)
+        for (int u = 0; u <= cam.width; ++u) corners.push_back(make(u - 0.5, v - 0.5));
     double lo = kInf, hi = -kInf;
-    for (const auto* set : {&samples, &centres})
+    for (const auto* set : {&samples, &centres, &corners})
       for (const Sample& s : *set) {
         const double a = std::atan2(s.sa, s.ca);
         lo = std::min(lo, a), hi = std::max(hi, a);
@@ -174,6 +205,26 @@ struct Renderer::Impl {
     };
     for (Sample& s : samples) bin_of(s);
     for (Sample& s : centres) bin_of(s);
+    for (Sample& s : corners) bin_of(s);
+    if (adaptive) {
+      const int cw = cam.width + 1;
+      col_bin_lo.assign(cam.width, bins);
+      col_bin_hi.assign(cam.width, 0);
+      for (int v = 0; v <= cam.height; ++v)
+        for (int u = 0; u < cam.width; ++u)
+          for (int du = 0; du < 2; ++du) {
+            const int b = corners[static_cast<std::size_t>(v) * cw + u + du].bin;
+            col_bin_lo[u] = std::min(col_bin_lo[u], std::max(0, b - 1));
+            col_bin_hi[u] = std::max(col_bin_hi[u], std::min(bins - 1, b + 1));
+          }
+      cam_R_robot = cam.RobotRotationCamera().transpose();
+      corner_pt.resize(corners.size());
+      corner_r.resize(corners.size());
+      mask.resize(static_cast<std::size_t>(cam.width) * cam.height);
+      col_max_t.resize(cam.width);
+      col_near.resize(cam.width);
+      bin_near.resize(bins);
+    }
     edge_c.resize(bins + 1);
     edge_s.resize(bins + 1);
     for (int e = 0; e <= bins; ++e) {
@@ -320,6 +371,7 @@ struct Renderer::Impl {
         }
       }
     }
+
     // Obstacles: top and mean side irradiance.
     obs_top_irr.clear();
     obs_side_irr.clear();
@@ -385,6 +437,7 @@ struct Renderer::Impl {
     }
     // Obstacles into bins.
     std::fill(bin_count.begin(), bin_count.end(), 0);
+    std::fill(bin_near.begin(), bin_near.end(), kInf);
     for (std::size_t o = 0; o < world.obstacles.size(); ++o) {
       const Obstacle& ob = world.obstacles[o];
       obs_c[o] = std::cos(ob.yaw);
@@ -394,8 +447,10 @@ struct Renderer::Impl {
       obs_oy[o] = -obs_s[o] * rx + obs_c[o] * ry;
       const double rad = ob.shape == Obstacle::Shape::kCylinder ? ob.radius : std::hypot(ob.half_x, ob.half_y);
       const double d = std::hypot(rx, ry);
+      const double near = std::max(0.0, d - rad);
       auto add = [&](int b0, int b1) {
         for (int b = std::max(b0, 0); b <= std::min(b1, bins - 1); ++b) {
+          if (adaptive) bin_near[b] = std::min(bin_near[b], near);
           int& cnt = bin_count[b];
           if (cnt < kMaxBinObstacles) bin_obs[static_cast<std::size_t>(b) * kMaxBinObstacles + cnt] = static_cast<int>(o);
           ++cnt;  // counts past the capacity mean "test all obstacles"
@@ -589,15 +644,17 @@ struct Renderer::Impl {
     return static_cast<std::size_t>(j) * gnx + i;
   }
 
-  // Radiance of a hit seen along (dx, dy, k) from (ox, oy, oz); `depth` limits mirror bounces.
-  double Shade(const Hit& hit, double ox, double oy, double oz, double dx, double dy, double k, int depth) const {
+  // What a hit looks like from (ox, oy, oz) along (dx, dy, k), mirrors left out (see Shade).
+  SurfPt Describe(const Hit& hit, double ox, double oy, double oz, double dx, double dy, double k) const {
+    SurfPt p;
+    const bool plane = hit.surf == Surf::kFloor || hit.surf == Surf::kCeiling;  // (their hit.id is stale)
+    p.key1 = static_cast<std::uint32_t>(hit.surf) << 24 | (plane ? 0xFFFFFFu : static_cast<std::uint32_t>(hit.id) & 0xFFFFFFu);
     const double x = ox + dx * hit.r, y = oy + dy * hit.r;
     switch (hit.surf) {
       case Surf::kNone:
-      case Surf::kInside: return 0.0;
+      case Surf::kInside: p.exact = true; return p;
       case Surf::kFloor: {
-        const std::size_t g = GridIndex(x, y);
-        const Cell& cell = cells[g];
+        const Cell& cell = cells[GridIndex(x, y)];
         const int f = cell.flat;
         if (f != -1) {
           for (std::size_t i = (f >= 0 ? f : 0); i < (f >= 0 ? f + 1 : world.flat_items.size()); ++i) {
@@ -607,37 +664,46 @@ struct Renderer::Impl {
             const double ly = -s * (x - it.centre.x()) + c * (y - it.centre.y());
             if (std::abs(lx) <= it.half_x && std::abs(ly) <= it.half_y) {
               const MatFast& m = mats[it.material];
-              return m.albedo * Tex(it.material, lx, ly) * cell.irr + m.emission;
+              p.key2 = static_cast<std::uint32_t>(it.material) << 16 | static_cast<std::uint32_t>(i + 1);
+              p.mat = it.material, p.tu = lx, p.tv = ly, p.a = m.albedo * cell.irr, p.b = m.emission;
+              return p;
             }
           }
         }
         const int mat = cell.floor_mat;
         const MatFast& m = mats[mat];
-        return m.albedo * Tex(mat, x, y) * cell.irr + m.emission;
+        p.key2 = static_cast<std::uint32_t>(mat) << 16;
+        p.mat = mat, p.tu = x, p.tv = y, p.a = m.albedo * cell.irr, p.b = m.emission;
+        return p;
       }
       case Surf::kCeiling: {
-        const std::size_t g = GridIndex(x, y);
-        const Cell& cell = cells[g];
+        p.exact = !uniform_ceiling;
+        const Cell& cell = cells[GridIndex(x, y)];
         const int l = cell.light;
         if (l >= 0) {
           const Light& lt = world.lights[l];
-          if (std::abs(x - lt.centre.x()) <= lt.half_x && std::abs(y - lt.centre.y()) <= lt.half_y)
-            return lt.on ? kLightPanelRadiance * std::max(0.3, lt.intensity) : kOffPanelRadiance;
+          if (std::abs(x - lt.centre.x()) <= lt.half_x && std::abs(y - lt.centre.y()) <= lt.half_y) {
+            p.key2 = 0xFFFF0000u | (static_cast<std::uint32_t>(l) & 0xFFFFu);
+            p.b = lt.on ? kLightPanelRadiance * std::max(0.3, lt.intensity) : kOffPanelRadiance;
+            return p;
+          }
         }
         const int mat = cell.ceil_mat;
         const MatFast& m = mats[mat];
-        return m.albedo * Tex(mat, x, y) * (world.ambient + kCeilingBounce * cell.irr) + m.emission;
+        p.key2 = static_cast<std::uint32_t>(mat) << 16;
+        p.mat = mat, p.tu = x, p.tv = y, p.a = m.albedo * (world.ambient + kCeilingBounce * cell.irr), p.b = m.emission;
+        return p;
       }
       case Surf::kWall: {
         const WallSegment& ws = world.walls[hit.id];
         const double along = ws.along_x ? x : y;
         const double z = oz + k * hit.r;
-        int mat = ws.material;
+        int mat = ws.material, decal = -1;
         double tu = along, tv = z;
         for (int i = decal_begin[hit.id]; i < decal_end[hit.id]; ++i) {
           const Decal& d = decals[i];
           if (along >= d.lo && along <= d.hi && z >= d.z0 && z <= d.z1) {
-            mat = d.material;
+            mat = d.material, decal = i;
             tu = along - d.lo;
             tv = d.z1 - z;
             break;
@@ -650,32 +716,291 @@ struct Renderer::Impl {
         const float* col = &wall_irr[wl.offset + static_cast<std::size_t>(iu) * wl.nz + iz];
         const double e = col[0] + (fu - iu) * (col[wl.nz] - col[0]);
         const MatFast& m = mats[mat];
-        double radiance = m.albedo * Tex(mat, tu, tv) * e + m.emission * Tex(mat, tu, tv);
-        if (m.mirror > 0 && depth < 1) {
-          const double rdx = ws.along_x ? dx : -dx, rdy = ws.along_x ? -dy : dy;
-          const double nx = x + ws.normal.x() * 1e-6, ny = y + ws.normal.y() * 1e-6;
-          const Hit r = TraceFrom(nx, ny, z, rdx, rdy, k);
-          radiance = (1 - m.mirror) * radiance + m.mirror * Shade(r, nx, ny, z, rdx, rdy, k, depth + 1);
-        }
-        return radiance;
+        p.key2 = static_cast<std::uint32_t>(mat) << 16 | static_cast<std::uint32_t>(decal + 1);
+        p.mat = mat, p.tu = tu, p.tv = tv, p.a = m.albedo * e + m.emission, p.b = 0;
+        p.exact = m.mirror > 0;
+        return p;
       }
       case Surf::kObsSide: {
         const Obstacle& ob = world.obstacles[hit.id];
         static constexpr double kFace[4] = {0.95, 0.7, 0.82, 0.6};
-        const MatFast& m = mats[ob.material];
-        return m.albedo * Tex(ob.material, hit.face_u, hit.face_v) * obs_side_irr[hit.id] * kFace[hit.face & 3];
+        p.key2 = static_cast<std::uint32_t>(hit.face);
+        p.mat = ob.material, p.tu = hit.face_u, p.tv = hit.face_v;
+        p.a = mats[ob.material].albedo * obs_side_irr[hit.id] * kFace[hit.face & 3];
+        p.exact = true;
+        return p;
       }
       case Surf::kObsTop: {
         const Obstacle& ob = world.obstacles[hit.id];
-        const MatFast& m = mats[ob.material];
-        return m.albedo * Tex(ob.material, hit.face_u, hit.face_v) * obs_top_irr[hit.id];
+        p.mat = ob.material, p.tu = hit.face_u, p.tv = hit.face_v, p.a = mats[ob.material].albedo * obs_top_irr[hit.id];
+        p.exact = true;
+        return p;
       }
       case Surf::kObsBottom: {
-        const Obstacle& ob = world.obstacles[hit.id];
-        return mats[ob.material].albedo * world.ambient;
+        p.b = mats[world.obstacles[hit.id].material].albedo * world.ambient;
+        p.exact = true;
+        return p;
       }
     }
-    return 0.0;
+    return p;
+  }
+
+  double Eval(const SurfPt& p) const { return p.mat >= 0 ? Tex(p.mat, p.tu, p.tv) * p.a + p.b : p.b; }
+
+  // Radiance of a hit seen along (dx, dy, k) from (ox, oy, oz); `depth` limits mirror bounces.
+  double Shade(const Hit& hit, double ox, double oy, double oz, double dx, double dy, double k, int depth) const {
+    const SurfPt p = Describe(hit, ox, oy, oz, dx, dy, k);
+    double radiance = Eval(p);
+    if (hit.surf == Surf::kWall && depth < 1 && p.mat >= 0 && mats[p.mat].mirror > 0) {
+      const double mirror = mats[p.mat].mirror;
+      const WallSegment& ws = world.walls[hit.id];
+      const double x = ox + dx * hit.r, y = oy + dy * hit.r, z = oz + k * hit.r;
+      const double rdx = ws.along_x ? dx : -dx, rdy = ws.along_x ? -dy : dy;
+      const double nx = x + ws.normal.x() * 1e-6, ny = y + ws.normal.y() * 1e-6;
+      const Hit r = TraceFrom(nx, ny, z, rdx, rdy, k);
+      radiance = (1 - mirror) * radiance + mirror * Shade(r, nx, ny, z, rdx, rdy, k, depth + 1);
+    }
+    return radiance;
+  }
+
+  // Mean radiance of a pixel's n×n samples, each traced in full.
+  double PixelTraced(const Sample* s) const {
+    const int nn = n * n;
+    double sum = 0;
+    for (int i = 0; i < nn; ++i, ++s) {
+      double dx, dy;
+      const Hit hit = Trace(*s, dx, dy);
+      sum += Shade(hit, px, py, cam_h, dx, dy, s->k, has_mirrors ? 0 : 1);
+    }
+    return sum / nn;
+  }
+
+  // Mean radiance of a pixel's n×n samples on one plane (`key1` of its corners): no tracing.
+  double PixelOnPlane(const Sample* s, std::uint32_t key1) const {
+    const int nn = n * n;
+    const auto surf = static_cast<Surf>(key1 >> 24);
+    const int id = static_cast<int>(key1 & 0xFFFFFFu);
+    double sum = 0;
+    for (int i = 0; i < nn; ++i, ++s) {
+      const double dx = cyaw * s->ca - syaw * s->sa, dy = syaw * s->ca + cyaw * s->sa;
+      Hit hit;
+      hit.surf = surf;
+      if (surf == Surf::kFloor && s->k < 0) {
+        hit.r = s->rk;
+      } else if (surf == Surf::kCeiling && s->k > 0) {
+        hit.r = (frame_ceiling - cam_h) * s->rk;
+      } else if (surf == Surf::kWall) {
+        hit.id = id;
+        hit.r = WallDistance(id, dx, dy);
+      }
+      if (hit.r == kInf) {  // off the plane after all: trace it
+        double tx, ty;
+        hit = Trace(*s, tx, ty);
+      }
+      sum += Shade(hit, px, py, cam_h, dx, dy, s->k, has_mirrors ? 0 : 1);
+    }
+    return sum / nn;
+  }
+
+  // Traces the pixel corners and marks the pixels that hold an edge no corner may see.
+  void PrepareAdaptive() {
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+      double dx, dy;
+      const Hit hit = Trace(corners[i], dx, dy);
+      corner_r[i] = hit.r;
+      corner_pt[i] = Describe(hit, px, py, cam_h, dx, dy, corners[i].k);
+    }
+    for (int u = 0; u < camera.width; ++u) {
+      double t = 0, near = kInf;
+      for (int e = col_bin_lo[u]; e <= col_bin_hi[u] + 1; ++e) t = std::max(t, edge_t[e]);
+      for (int b = col_bin_lo[u]; b <= col_bin_hi[u]; ++b) near = std::min(near, bin_near[b]);
+      col_max_t[u] = t;
+      col_near[u] = near;
+    }
+    std::fill(mask.begin(), mask.end(), 0);
+    const Eigen::Vector2d cam_xy(px, py);
+    // Vertical wall edges (the ends of the walls that face the camera).
+    for (const WallSegment& ws : world.walls) {
+      const double side = ws.along_x ? (py - ws.coord) * ws.normal.y() : (px - ws.coord) * ws.normal.x();
+      if (side <= 1e-12) continue;
+      for (double a : {ws.lo, ws.hi}) {
+        const Eigen::Vector2d e = ws.along_x ? Eigen::Vector2d(a, ws.coord) : Eigen::Vector2d(ws.coord, a);
+        const Eigen::Vector3d pts[2] = {ToCamera(e.x(), e.y(), 0.0), ToCamera(e.x(), e.y(), ws.height_m)};
+        MarkPolygon(pts, 2, (e - cam_xy).norm(), kMaskGeometry);
+      }
+    }
+    // Light panels.
+    for (const Light& l : world.lights) {
+      const double x0 = l.centre.x() - l.half_x, x1 = l.centre.x() + l.half_x;
+      const double y0 = l.centre.y() - l.half_y, y1 = l.centre.y() + l.half_y;
+      const Eigen::Vector3d pts[4] = {ToCamera(x0, y0, l.z_m), ToCamera(x1, y0, l.z_m), ToCamera(x1, y1, l.z_m),
+                                      ToCamera(x0, y1, l.z_m)};
+      const double near = std::hypot(std::max({x0 - px, px - x1, 0.0}), std::max({y0 - py, py - y1, 0.0}));
+      MarkPolygon(pts, 4, near, kMaskPattern);
+    }
+    // Decals.
+    for (const Decal& d : decals) {
+      const WallSegment& ws = world.walls[d.wall];
+      const double side = ws.along_x ? (py - ws.coord) * ws.normal.y() : (px - ws.coord) * ws.normal.x();
+      if (side <= 1e-12) continue;
+      auto at = [&](double along, double z) {
+        return ws.along_x ? ToCamera(along, ws.coord, z) : ToCamera(ws.coord, along, z);
+      };
+      const Eigen::Vector3d pts[4] = {at(d.lo, d.z0), at(d.hi, d.z0), at(d.hi, d.z1), at(d.lo, d.z1)};
+      const double pa = ws.along_x ? px : py;
+      const double near = std::hypot(std::max({d.lo - pa, pa - d.hi, 0.0}), side);
+      MarkPolygon(pts, 4, near, kMaskPattern);
+    }
+    // Flat items.
+    for (const FlatItem& f : world.flat_items) {
+      const double c = std::cos(f.yaw), s = std::sin(f.yaw);
+      Eigen::Vector3d pts[4];
+      for (int q = 0; q < 4; ++q) {
+        const double lx = (q == 1 || q == 2) ? f.half_x : -f.half_x, ly = q >= 2 ? f.half_y : -f.half_y;
+        pts[q] = ToCamera(f.centre.x() + c * lx - s * ly, f.centre.y() + s * lx + c * ly, 0.0);
+      }
+      MarkPolygon(pts, 4, 0.0, kMaskPattern);
+    }
+  }
+
+  // A world point in the camera frame (x right, y down, z along the optical axis).
+  Eigen::Vector3d ToCamera(double x, double y, double z) const {
+    const double rx = x - px, ry = y - py;
+    return cam_R_robot * Eigen::Vector3d(cyaw * rx + syaw * ry, -syaw * rx + cyaw * ry, z - cam_h);
+  }
+
+  // Marks with `bit` every pixel that the convex polygon (camera frame, np <= 4 points) may
+  // cover, unless walls nearer than `near` (its horizontal distance) hide all of its columns.
+  void MarkPolygon(const Eigen::Vector3d* pts, int np, double near, std::uint8_t bit) {
+    constexpr double kNear = 1e-3;
+    double umin = kInf, umax = -kInf, vmin = kInf, vmax = -kInf;
+    auto add = [&](const Eigen::Vector3d& q) {
+      const double u = camera.fx * q.x() / q.z() + camera.cx, v = camera.fy * q.y() / q.z() + camera.cy;
+      umin = std::min(umin, u), umax = std::max(umax, u), vmin = std::min(vmin, v), vmax = std::max(vmax, v);
+    };
+    // Clip against the plane z = kNear (Sutherland-Hodgman); a segment when np == 2.
+    const int edges = np == 2 ? 1 : np;
+    for (int i = 0; i < np; ++i)
+      if (pts[i].z() >= kNear) add(pts[i]);
+    for (int i = 0; i < edges; ++i) {
+      const Eigen::Vector3d& a = pts[i];
+      const Eigen::Vector3d& b = pts[(i + 1) % np];
+      if ((a.z() < kNear) != (b.z() < kNear)) add(a + (b - a) * ((kNear - a.z()) / (b.z() - a.z())));
+    }
+    if (umin > umax) return;  // wholly behind the camera
+    constexpr double kPad = 1e-3;
+    const int u0 = std::max(0, static_cast<int>(std::ceil(std::max(umin - 0.5 - kPad, -1.0))));
+    const int u1 = std::min(camera.width - 1, static_cast<int>(std::floor(std::min(umax + 0.5 + kPad, 1e6))));
+    const int v0 = std::max(0, static_cast<int>(std::ceil(std::max(vmin - 0.5 - kPad, -1.0))));
+    const int v1 = std::min(camera.height - 1, static_cast<int>(std::floor(std::min(vmax + 0.5 + kPad, 1e6))));
+    if (u0 > u1 || v0 > v1) return;
+    double far = 0;
+    for (int u = u0; u <= u1; ++u) far = std::max(far, col_max_t[u]);
+    if (near > far * (1 + 1e-6) + 1e-6) return;  // behind the walls in every column it spans
+    for (int v = v0; v <= v1; ++v)
+      for (int u = u0; u <= u1; ++u) mask[static_cast<std::size_t>(v) * camera.width + u] |= bit;
+  }
+
+  // Distance along a sample (horizontal direction dx, dy) to the plane `key1` (infinity when the
+  // sample does not meet it, for a wall within its extent).
+  double PlaneDistance(std::uint32_t key1, const Sample& s, double dx, double dy) const {
+    switch (static_cast<Surf>(key1 >> 24)) {
+      case Surf::kFloor: return s.k < 0 ? s.rk : kInf;
+      case Surf::kCeiling: return s.k > 0 ? (frame_ceiling - cam_h) * s.rk : kInf;
+      case Surf::kWall: return WallDistance(static_cast<int>(key1 & 0xFFFFFFu), dx, dy);
+      default: return kInf;
+    }
+  }
+
+  // Mean radiance of a pixel whose corners see several planes and no obstacle can stand in it:
+  // each sample takes the nearest of the corners' planes (no tracing). Where a wall edge lies
+  // in the pixel, or a wall thinner than the pixel could hide between floor and ceiling
+  // corners, each sample instead tests the walls of its own bearing-table entries as Trace
+  // does (without the obstacle search).
+  double PixelPlanes(const Sample* s, const std::size_t (&idx)[4], bool geometry) const {
+    constexpr std::uint32_t kFloorKey = static_cast<std::uint32_t>(Surf::kFloor) << 24 | 0xFFFFFFu;
+    constexpr std::uint32_t kCeilingKey = static_cast<std::uint32_t>(Surf::kCeiling) << 24 | 0xFFFFFFu;
+    std::uint32_t keys[4];
+    int np = 0;
+    bool has_floor = false, has_ceiling = false;
+    for (int c = 0; c < 4; ++c) {
+      const std::uint32_t key = corner_pt[idx[c]].key1;
+      if (std::find(keys, keys + np, key) == keys + np) keys[np++] = key;
+      has_floor = has_floor || key == kFloorKey;
+      has_ceiling = has_ceiling || key == kCeilingKey;
+    }
+    const bool by_bins = geometry || (has_floor && has_ceiling);
+    const int nn = n * n;
+    const int depth = has_mirrors ? 0 : 1;
+    double sum = 0;
+    const Sample* s0 = s;
+    for (int i = 0; i < nn; ++i, ++s) {
+      const double dx = cyaw * s->ca - syaw * s->sa, dy = syaw * s->ca + cyaw * s->sa;
+      Hit hit;
+      if (by_bins) {
+        const int w0 = edge_wall[s->bin], w1 = edge_wall[s->bin + 1];
+        hit.r = WallDistance(w0, dx, dy), hit.id = w0;
+        if (w1 != w0) {
+          const double t1 = WallDistance(w1, dx, dy);
+          if (t1 < hit.r) hit.r = t1, hit.id = w1;
+        }
+        if (hit.r == kInf) {  // a sliver wall inside the bin: trace this sample
+          double tx, ty;
+          sum += Shade(Trace(*s, tx, ty), px, py, cam_h, dx, dy, s->k, depth);
+          continue;
+        }
+        hit.surf = Surf::kWall;
+        if (s->k < 0 && s->rk < hit.r) {
+          hit.surf = Surf::kFloor, hit.r = s->rk;
+        } else if (s->k > 0 && (frame_ceiling - cam_h) * s->rk < hit.r) {
+          hit.surf = Surf::kCeiling, hit.r = (frame_ceiling - cam_h) * s->rk;
+        }
+      } else {
+        std::uint32_t best_key = 0;
+        for (int q = 0; q < np; ++q) {
+          const double r = PlaneDistance(keys[q], *s, dx, dy);
+          if (r < hit.r) hit.r = r, best_key = keys[q];
+        }
+        if (hit.r == kInf) return PixelTraced(s0);
+        hit.surf = static_cast<Surf>(best_key >> 24);
+        hit.id = hit.surf == Surf::kWall ? static_cast<int>(best_key & 0xFFFFFFu) : -1;
+      }
+      if (hit.surf == Surf::kCeiling && !uniform_ceiling) return PixelTraced(s0);
+      sum += Shade(hit, px, py, cam_h, dx, dy, s->k, depth);
+    }
+    return sum / nn;
+  }
+
+  // Mean radiance of pixel (u, v) whose samples start at s, from its corners when they allow.
+  double PixelAdaptive(int u, int v, const Sample* s) const {
+    const int cw = camera.width + 1;
+    const std::size_t i0 = static_cast<std::size_t>(v) * cw + u;
+    const std::size_t idx[4] = {i0, i0 + 1, i0 + cw, i0 + cw + 1};
+    const SurfPt& p0 = corner_pt[i0];
+    bool same_plane = true, same_region = true;
+    double r_max = 0, shade_lo = kInf, shade_hi = 0;
+    for (std::size_t i : idx) {
+      const SurfPt& p = corner_pt[i];
+      if (p.exact) return PixelTraced(s);
+      same_plane = same_plane && p.key1 == p0.key1;
+      same_region = same_region && p.key2 == p0.key2;
+      r_max = std::max(r_max, corner_r[i]);
+      shade_lo = std::min(shade_lo, p.a), shade_hi = std::max(shade_hi, p.a);
+    }
+    const std::uint8_t m = mask[static_cast<std::size_t>(v) * camera.width + u];
+    if (col_near[u] <= r_max) return PixelTraced(s);  // an obstacle may stand in front
+    if (!same_plane || (m & kMaskGeometry)) return PixelPlanes(s, idx, (m & kMaskGeometry) != 0);
+    if (!same_region || (m & kMaskPattern) || shade_hi > kMaxShadeRatio * shade_lo) return PixelOnPlane(s, p0.key1);
+    if (p0.mat < 0) return p0.b;
+    // One region of one plane: the box-filtered texture over the corners' footprint.
+    double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf, a_sum = 0;
+    for (std::size_t i : idx) {
+      const SurfPt& p = corner_pt[i];
+      u_lo = std::min(u_lo, p.tu), u_hi = std::max(u_hi, p.tu);
+      v_lo = std::min(v_lo, p.tv), v_hi = std::max(v_hi, p.tv);
+      a_sum += p.a;
+    }
+    return tex[p0.mat].BoxMean(u_lo, u_hi, v_lo, v_hi) * (0.25 * a_sum) + p0.b;
   }
 
   void Render(const Pose2& pose, MutableGrayView image, std::uint8_t* label, std::ptrdiff_t label_stride, float* range,
@@ -683,32 +1008,35 @@ struct Renderer::Impl {
     SQUINT_ENSURE(image.data != nullptr && image.width == camera.width && image.height == camera.height,
                   "Renderer::Render: the image must have the camera's size");
     PrepareFrame(pose);
+    if (adaptive) PrepareAdaptive();
     const int nn = n * n;
-    const double inv_nn = 1.0 / nn;
     const double lut_scale = options.exposure * kGammaLutSize / kGammaLutMax;
     const bool noisy = options.noise_sigma > 0;
     const std::uint64_t key = SplitMix(options.seed ^ SplitMix(frame_id + 0x1234567ull));
     const Sample* s = samples.data();
     for (int v = 0; v < camera.height; ++v) {
       std::uint8_t* row = image.Row(v);
-      for (int u = 0; u < camera.width; ++u) {
-        double sum = 0;
+      for (int u = 0; u < camera.width; ++u, s += nn) {
+        double mean;
         Hit first;
-        for (int i = 0; i < nn; ++i, ++s) {
+        if (adaptive) {
+          mean = PixelAdaptive(u, v, s);
+        } else if (nn == 1) {
           double dx, dy;
-          const Hit hit = Trace(*s, dx, dy);
-          if (i == 0) first = hit;
-          sum += Shade(hit, px, py, cam_h, dx, dy, s->k, has_mirrors ? 0 : 1);
+          first = Trace(*s, dx, dy);
+          mean = Shade(first, px, py, cam_h, dx, dy, s->k, has_mirrors ? 0 : 1);
+        } else {
+          mean = PixelTraced(s);
         }
-        const int li = std::min(kGammaLutSize - 1, static_cast<int>(sum * inv_nn * lut_scale));
+        const int li = std::min(kGammaLutSize - 1, static_cast<int>(mean * lut_scale));
         double grey = gamma_lut[std::max(0, li)];
         if (noisy) {
           const std::uint64_t h = SplitMix(key ^ (static_cast<std::uint64_t>(v) * 100003u + u));
           grey += options.noise_sigma * normal_table[h & 0xFFFF];
         }
-        row[u] = static_cast<std::uint8_t>(std::clamp(std::lround(grey), 0L, 255L));
+        row[u] = static_cast<std::uint8_t>(std::clamp(std::floor(grey + 0.5), 0.0, 255.0));  // as lround
         if (label || range) {
-          const Sample& c = n > 1 ? centres[static_cast<std::size_t>(v) * camera.width + u] : *(s - 1);
+          const Sample& c = n > 1 ? centres[static_cast<std::size_t>(v) * camera.width + u] : *s;
           double dx, dy;
           const Hit hit = n > 1 ? Trace(c, dx, dy) : first;
           if (label) label[v * label_stride + u] = hit.surf == Surf::kFloor ? kLabelFloor : kLabelStanding;

@@ -126,7 +126,35 @@ TextureTable MakeTexture(const Material& m, std::uint32_t seed) {
       break;
   }
   for (std::size_t i = 0; i < f.size(); ++i) t.texels[i] = static_cast<std::uint8_t>(std::clamp(f[i] * 128.0f, 0.0f, 255.0f));
+  constexpr int kS = kTexSize + 1;
+  t.sat.assign(static_cast<std::size_t>(kS) * kS, 0);
+  for (int y = 0; y < kTexSize; ++y) {
+    std::uint32_t row = 0;
+    for (int x = 0; x < kTexSize; ++x) {
+      row += t.texels[static_cast<std::size_t>(y) * kTexSize + x];
+      t.sat[static_cast<std::size_t>(y + 1) * kS + x + 1] = t.sat[static_cast<std::size_t>(y) * kS + x + 1] + row;
+    }
+  }
   return t;
+}
+
+float TextureTable::BoxMean(double u0, double u1, double v0, double v1) const {
+  constexpr int kS = kTexSize + 1;
+  // Texel columns [x0, x1) and rows [y0, y1) meeting the box, at most one table wide.
+  const auto x0 = static_cast<std::int64_t>(std::floor(u0 * inv_texel_m));
+  const auto y0 = static_cast<std::int64_t>(std::floor(v0 * inv_texel_m));
+  const std::int64_t x1 = std::min<std::int64_t>(static_cast<std::int64_t>(std::floor(u1 * inv_texel_m)) + 1, x0 + kTexSize);
+  const std::int64_t y1 = std::min<std::int64_t>(static_cast<std::int64_t>(std::floor(v1 * inv_texel_m)) + 1, y0 + kTexSize);
+  // Sum over [0, x) × [0, y) of the periodic extension (x, y may be negative).
+  auto s2 = [&](std::int64_t x, std::int64_t y) {
+    const std::int64_t qx = x >> 7, qy = y >> 7;  // floor division by kTexSize
+    const std::int64_t rx = x & (kTexSize - 1), ry = y & (kTexSize - 1);
+    const auto at = [&](std::int64_t i, std::int64_t j) { return static_cast<std::int64_t>(sat[j * kS + i]); };
+    return qx * qy * at(kTexSize, kTexSize) + qx * at(kTexSize, ry) + qy * at(rx, kTexSize) + at(rx, ry);
+  };
+  static_assert(kTexSize == 128, "s2 divides by shifting");
+  const std::int64_t sum = s2(x1, y1) - s2(x0, y1) - s2(x1, y0) + s2(x0, y0);
+  return static_cast<float>(static_cast<double>(sum) / static_cast<double>((x1 - x0) * (y1 - y0))) * gain;
 }
 
 }  // namespace squint::sim::detail
