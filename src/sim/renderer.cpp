@@ -567,7 +567,7 @@ struct Renderer::Impl {
   }
 
   // The fast path: camera origin, bearing table.
-  Hit Trace(const Sample& s, double& dx, double& dy) const {
+  [[gnu::always_inline]] Hit Trace(const Sample& s, double& dx, double& dy) const {
     dx = cyaw * s.ca - syaw * s.sa;
     dy = syaw * s.ca + cyaw * s.sa;
     Hit hit;
@@ -638,10 +638,52 @@ struct Renderer::Impl {
     return t.texels[iv * detail::kTexSize + iu] * t.gain;
   }
 
-  std::size_t GridIndex(double x, double y) const {
+  [[gnu::always_inline]] std::size_t GridIndex(double x, double y) const {
     const int i = std::clamp(static_cast<int>((x - gx0) * (1.0 / kCell)), 0, gnx - 1);
     const int j = std::clamp(static_cast<int>((y - gy0) * (1.0 / kCell)), 0, gny - 1);
     return static_cast<std::size_t>(j) * gnx + i;
+  }
+
+  // Irradiance of wall w at `along` (its coordinate along the wall) and height z: the wall's
+  // light table, linear along the wall and nearest in height.
+  [[gnu::always_inline]] double WallIrradiance(int w, double along, double z) const {
+    const WallLight& wl = wall_light[w];
+    const double fu = std::clamp((along - world.walls[w].lo) * (1.0 / kWallCell), 0.0, wl.nu - 2.0);
+    const int iu = static_cast<int>(fu);
+    const int iz = std::clamp(static_cast<int>(z * (1.0 / kWallCell) + 0.5), 0, wl.nz - 1);
+    const float* col = &wall_irr[wl.offset + static_cast<std::size_t>(iu) * wl.nz + iz];
+    return col[0] + (fu - iu) * (col[wl.nz] - col[0]);
+  }
+
+  // Samples on one plain region (no decal, flat item or light panel) of one plane: the sum of
+  // their irradiance and the box their texture coordinates span.
+  struct PlainAccum {
+    double e_sum = 0;
+    int count = 0;
+    double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf;
+  };
+  void Accumulate(PlainAccum& acc, Surf surf, int wall, double x, double y, double z) const {
+    double tu = x, tv = y, e;
+    if (surf == Surf::kWall) {
+      tu = world.walls[wall].along_x ? x : y;
+      tv = z;
+      e = WallIrradiance(wall, tu, z);
+    } else {
+      const double irr = cells[GridIndex(x, y)].irr;
+      e = surf == Surf::kCeiling ? world.ambient + kCeilingBounce * irr : irr;
+    }
+    acc.e_sum += e;
+    ++acc.count;
+    acc.u_lo = std::min(acc.u_lo, tu), acc.u_hi = std::max(acc.u_hi, tu);
+    acc.v_lo = std::min(acc.v_lo, tv), acc.v_hi = std::max(acc.v_hi, tv);
+  }
+  // The samples' mean radiance with the mean irradiance and the box-filtered texture.
+  double AccumRadiance(const PlainAccum& acc, Surf surf, int mat) const {
+    const MatFast& m = mats[mat];
+    const double e = acc.e_sum / acc.count;
+    const bool wall = surf == Surf::kWall;
+    return tex[mat].BoxMean(acc.u_lo, acc.u_hi, acc.v_lo, acc.v_hi) * (m.albedo * e + (wall ? m.emission : 0.0)) +
+           (wall ? 0.0 : m.emission);
   }
 
   // What a hit looks like from (ox, oy, oz) along (dx, dy, k), mirrors left out (see Shade).
@@ -709,12 +751,7 @@ struct Renderer::Impl {
             break;
           }
         }
-        const WallLight& wl = wall_light[hit.id];
-        const double fu = std::clamp((along - ws.lo) * (1.0 / kWallCell), 0.0, wl.nu - 2.0);
-        const int iu = static_cast<int>(fu);
-        const int iz = std::clamp(static_cast<int>(z * (1.0 / kWallCell) + 0.5), 0, wl.nz - 1);
-        const float* col = &wall_irr[wl.offset + static_cast<std::size_t>(iu) * wl.nz + iz];
-        const double e = col[0] + (fu - iu) * (col[wl.nz] - col[0]);
+        const double e = WallIrradiance(hit.id, along, z);
         const MatFast& m = mats[mat];
         p.key2 = static_cast<std::uint32_t>(mat) << 16 | static_cast<std::uint32_t>(decal + 1);
         p.mat = mat, p.tu = tu, p.tv = tv, p.a = m.albedo * e + m.emission, p.b = 0;
@@ -748,19 +785,89 @@ struct Renderer::Impl {
   double Eval(const SurfPt& p) const { return p.mat >= 0 ? Tex(p.mat, p.tu, p.tv) * p.a + p.b : p.b; }
 
   // Radiance of a hit seen along (dx, dy, k) from (ox, oy, oz); `depth` limits mirror bounces.
+  // Written out for speed (the one-sample path); Describe + Eval give the same radiance, which
+  // the adaptive-vs-full supersampling test checks.
   double Shade(const Hit& hit, double ox, double oy, double oz, double dx, double dy, double k, int depth) const {
-    const SurfPt p = Describe(hit, ox, oy, oz, dx, dy, k);
-    double radiance = Eval(p);
-    if (hit.surf == Surf::kWall && depth < 1 && p.mat >= 0 && mats[p.mat].mirror > 0) {
-      const double mirror = mats[p.mat].mirror;
-      const WallSegment& ws = world.walls[hit.id];
-      const double x = ox + dx * hit.r, y = oy + dy * hit.r, z = oz + k * hit.r;
-      const double rdx = ws.along_x ? dx : -dx, rdy = ws.along_x ? -dy : dy;
-      const double nx = x + ws.normal.x() * 1e-6, ny = y + ws.normal.y() * 1e-6;
-      const Hit r = TraceFrom(nx, ny, z, rdx, rdy, k);
-      radiance = (1 - mirror) * radiance + mirror * Shade(r, nx, ny, z, rdx, rdy, k, depth + 1);
+    const double x = ox + dx * hit.r, y = oy + dy * hit.r;
+    switch (hit.surf) {
+      case Surf::kNone:
+      case Surf::kInside: return 0.0;
+      case Surf::kFloor: {
+        const std::size_t g = GridIndex(x, y);
+        const Cell& cell = cells[g];
+        const int f = cell.flat;
+        if (f != -1) {
+          for (std::size_t i = (f >= 0 ? f : 0); i < (f >= 0 ? f + 1 : world.flat_items.size()); ++i) {
+            const FlatItem& it = world.flat_items[i];
+            const double c = std::cos(it.yaw), s = std::sin(it.yaw);
+            const double lx = c * (x - it.centre.x()) + s * (y - it.centre.y());
+            const double ly = -s * (x - it.centre.x()) + c * (y - it.centre.y());
+            if (std::abs(lx) <= it.half_x && std::abs(ly) <= it.half_y) {
+              const MatFast& m = mats[it.material];
+              return m.albedo * Tex(it.material, lx, ly) * cell.irr + m.emission;
+            }
+          }
+        }
+        const int mat = cell.floor_mat;
+        const MatFast& m = mats[mat];
+        return m.albedo * Tex(mat, x, y) * cell.irr + m.emission;
+      }
+      case Surf::kCeiling: {
+        const std::size_t g = GridIndex(x, y);
+        const Cell& cell = cells[g];
+        const int l = cell.light;
+        if (l >= 0) {
+          const Light& lt = world.lights[l];
+          if (std::abs(x - lt.centre.x()) <= lt.half_x && std::abs(y - lt.centre.y()) <= lt.half_y)
+            return lt.on ? kLightPanelRadiance * std::max(0.3, lt.intensity) : kOffPanelRadiance;
+        }
+        const int mat = cell.ceil_mat;
+        const MatFast& m = mats[mat];
+        return m.albedo * Tex(mat, x, y) * (world.ambient + kCeilingBounce * cell.irr) + m.emission;
+      }
+      case Surf::kWall: {
+        const WallSegment& ws = world.walls[hit.id];
+        const double along = ws.along_x ? x : y;
+        const double z = oz + k * hit.r;
+        int mat = ws.material;
+        double tu = along, tv = z;
+        for (int i = decal_begin[hit.id]; i < decal_end[hit.id]; ++i) {
+          const Decal& d = decals[i];
+          if (along >= d.lo && along <= d.hi && z >= d.z0 && z <= d.z1) {
+            mat = d.material;
+            tu = along - d.lo;
+            tv = d.z1 - z;
+            break;
+          }
+        }
+        const double e = WallIrradiance(hit.id, along, z);
+        const MatFast& m = mats[mat];
+        double radiance = m.albedo * Tex(mat, tu, tv) * e + m.emission * Tex(mat, tu, tv);
+        if (m.mirror > 0 && depth < 1) {
+          const double rdx = ws.along_x ? dx : -dx, rdy = ws.along_x ? -dy : dy;
+          const double nx = x + ws.normal.x() * 1e-6, ny = y + ws.normal.y() * 1e-6;
+          const Hit r = TraceFrom(nx, ny, z, rdx, rdy, k);
+          radiance = (1 - m.mirror) * radiance + m.mirror * Shade(r, nx, ny, z, rdx, rdy, k, depth + 1);
+        }
+        return radiance;
+      }
+      case Surf::kObsSide: {
+        const Obstacle& ob = world.obstacles[hit.id];
+        static constexpr double kFace[4] = {0.95, 0.7, 0.82, 0.6};
+        const MatFast& m = mats[ob.material];
+        return m.albedo * Tex(ob.material, hit.face_u, hit.face_v) * obs_side_irr[hit.id] * kFace[hit.face & 3];
+      }
+      case Surf::kObsTop: {
+        const Obstacle& ob = world.obstacles[hit.id];
+        const MatFast& m = mats[ob.material];
+        return m.albedo * Tex(ob.material, hit.face_u, hit.face_v) * obs_top_irr[hit.id];
+      }
+      case Surf::kObsBottom: {
+        const Obstacle& ob = world.obstacles[hit.id];
+        return mats[ob.material].albedo * world.ambient;
+      }
     }
-    return radiance;
+    return 0.0;
   }
 
   // Mean radiance of a pixel's n×n samples, each traced in full.
@@ -800,6 +907,22 @@ struct Renderer::Impl {
       sum += Shade(hit, px, py, cam_h, dx, dy, s->k, has_mirrors ? 0 : 1);
     }
     return sum / nn;
+  }
+
+  // Mean radiance of a pixel's n×n samples on one plain region of one plane (material `mat`):
+  // the light map at every sample, the texture box-filtered over their footprint.
+  double PixelLit(const Sample* s, std::uint32_t key1, int mat) const {
+    const int nn = n * n;
+    const auto surf = static_cast<Surf>(key1 >> 24);
+    const int id = static_cast<int>(key1 & 0xFFFFFFu);
+    PlainAccum acc;
+    for (int i = 0; i < nn; ++i, ++s) {
+      const double dx = cyaw * s->ca - syaw * s->sa, dy = syaw * s->ca + cyaw * s->sa;
+      const double r = PlaneDistance(key1, *s, dx, dy);
+      if (r == kInf) return PixelOnPlane(s - i, key1);
+      Accumulate(acc, surf, id, px + dx * r, py + dy * r, cam_h + s->k * r);
+    }
+    return AccumRadiance(acc, surf, mat);
   }
 
   // Traces the pixel corners and marks the pixels that hold an edge no corner may see.
@@ -917,18 +1040,23 @@ struct Renderer::Impl {
   // in the pixel, or a wall thinner than the pixel could hide between floor and ceiling
   // corners, each sample instead tests the walls of its own bearing-table entries as Trace
   // does (without the obstacle search).
-  double PixelPlanes(const Sample* s, const std::size_t (&idx)[4], bool geometry) const {
+  double PixelPlanes(const Sample* s, const std::size_t (&idx)[4], bool geometry, bool pattern) const {
     constexpr std::uint32_t kFloorKey = static_cast<std::uint32_t>(Surf::kFloor) << 24 | 0xFFFFFFu;
     constexpr std::uint32_t kCeilingKey = static_cast<std::uint32_t>(Surf::kCeiling) << 24 | 0xFFFFFFu;
     std::uint32_t keys[4];
+    int first[4];  // a corner on each plane
+    bool plain[4];  // the plane's corners see one plain region, and no pattern edge is near
     int np = 0;
     bool has_floor = false, has_ceiling = false;
     for (int c = 0; c < 4; ++c) {
-      const std::uint32_t key = corner_pt[idx[c]].key1;
-      if (std::find(keys, keys + np, key) == keys + np) keys[np++] = key;
-      has_floor = has_floor || key == kFloorKey;
-      has_ceiling = has_ceiling || key == kCeilingKey;
+      const SurfPt& p = corner_pt[idx[c]];
+      const int q = static_cast<int>(std::find(keys, keys + np, p.key1) - keys);
+      if (q == np) keys[np] = p.key1, first[np] = c, plain[np] = !pattern && p.mat >= 0 && (p.key2 & 0xFFFFu) == 0, ++np;
+      plain[q] = plain[q] && p.key2 == corner_pt[idx[first[q]]].key2;
+      has_floor = has_floor || p.key1 == kFloorKey;
+      has_ceiling = has_ceiling || p.key1 == kCeilingKey;
     }
+    PlainAccum acc[4];
     const bool by_bins = geometry || (has_floor && has_ceiling);
     const int nn = n * n;
     const int depth = has_mirrors ? 0 : 1;
@@ -966,8 +1094,17 @@ struct Renderer::Impl {
         hit.id = hit.surf == Surf::kWall ? static_cast<int>(best_key & 0xFFFFFFu) : -1;
       }
       if (hit.surf == Surf::kCeiling && !uniform_ceiling) return PixelTraced(s0);
-      sum += Shade(hit, px, py, cam_h, dx, dy, s->k, depth);
+      const std::uint32_t key = static_cast<std::uint32_t>(hit.surf) << 24 |
+                                (hit.surf == Surf::kWall ? static_cast<std::uint32_t>(hit.id) : 0xFFFFFFu);
+      const int q = static_cast<int>(std::find(keys, keys + np, key) - keys);
+      if (q < np && plain[q]) {
+        Accumulate(acc[q], hit.surf, hit.id, px + dx * hit.r, py + dy * hit.r, cam_h + s->k * hit.r);
+      } else {
+        sum += Shade(hit, px, py, cam_h, dx, dy, s->k, depth);
+      }
     }
+    for (int q = 0; q < np; ++q)
+      if (acc[q].count > 0) sum += acc[q].count * AccumRadiance(acc[q], static_cast<Surf>(keys[q] >> 24), corner_pt[idx[first[q]]].mat);
     return sum / nn;
   }
 
@@ -989,8 +1126,11 @@ struct Renderer::Impl {
     }
     const std::uint8_t m = mask[static_cast<std::size_t>(v) * camera.width + u];
     if (col_near[u] <= r_max) return PixelTraced(s);  // an obstacle may stand in front
-    if (!same_plane || (m & kMaskGeometry)) return PixelPlanes(s, idx, (m & kMaskGeometry) != 0);
-    if (!same_region || (m & kMaskPattern) || shade_hi > kMaxShadeRatio * shade_lo) return PixelOnPlane(s, p0.key1);
+    if (!same_plane || (m & kMaskGeometry)) return PixelPlanes(s, idx, (m & kMaskGeometry) != 0, (m & kMaskPattern) != 0);
+    if (!same_region || (m & kMaskPattern)) return PixelOnPlane(s, p0.key1);
+    if (shade_hi > kMaxShadeRatio * shade_lo && p0.mat >= 0) {
+      return (p0.key2 & 0xFFFFu) == 0 ? PixelLit(s, p0.key1, p0.mat) : PixelOnPlane(s, p0.key1);
+    }
     if (p0.mat < 0) return p0.b;
     // One region of one plane: the box-filtered texture over the corners' footprint.
     double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf, a_sum = 0;
