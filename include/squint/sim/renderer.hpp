@@ -17,11 +17,14 @@ namespace squint::sim {
 
 struct RenderOptions {
   int supersample = 2;          // n: n×n samples per pixel, box-averaged in linear radiance
-  // n > 1 only: trace the pixel corners first; a pixel whose four corners see one region of one
-  // plane (one material, no light panel, decal, flat item, wall edge or obstacle inside) is
-  // shaded once from a box-filtered texture over its footprint, one whose corners see one plane
-  // with a pattern edge inside from its n×n samples on that plane, and any other pixel from its
-  // n×n fully traced samples. Geometry stays exact; false: every pixel gets n×n traced samples.
+  // n >= 3 (undistorted cameras) only: trace the pixel corners first. A pixel whose four corners
+  // see one region of one plane (one material; no light panel, decal, flat item, wall edge or
+  // obstacle inside) is shaded once from a box-filtered texture over its footprint (with its
+  // n×n samples' light map where the corners' lighting differs by more than 25%); a pixel on
+  // several planes or with a pattern edge inside shades its n×n samples on the planes its
+  // corners (or, at a wall edge, its samples' bearing-table walls) see, without tracing; near
+  // obstacles, mirrors and stepped ceilings its n×n samples are traced in full. Ranges and
+  // labels always come from the traced central rays. false: n×n traced samples everywhere.
   bool adaptive = true;
   double exposure = 0.55;       // multiplies radiance before the camera's response curve
   double gamma = 2.2;           // response: grey = 255 * (exposure * radiance)^(1/gamma), clipped
