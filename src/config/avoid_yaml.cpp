@@ -30,6 +30,7 @@ void CheckTopLevel(const YAML::Node& root, const std::string& source) {
   if (!root || root.IsNull()) return;
   if (!root.IsMap()) throw Error(source + ": the top level must be a mapping with `ipt:` and/or `avoid:`");
   std::set<std::string> allowed(std::begin(kOtherSections), std::end(kOtherSections));
+  allowed.insert(std::begin(kIptTopLevelKeys), std::end(kIptTopLevelKeys));  // the flat IPT format
   allowed.insert("avoid");
   for (const auto& kv : root) {
     const std::string name = kv.first.as<std::string>();
@@ -82,13 +83,18 @@ AvoidOptions ParseAvoid(const YAML::Node& root, const std::string& source, const
   const YAML::Node a = root["avoid"];
   r.RequireMap(a, "avoid", {"edges", "outline", "polar", "gap"});
   if (const YAML::Node n = a["edges"]) {
-    r.RequireMap(n, "avoid.edges", {"sigma_px", "low_threshold", "high_threshold"});
+    r.RequireMap(n, "avoid.edges", {"sigma_px", "low_threshold", "high_threshold", "base_edges"});
+    r.Get(n, "avoid.edges", "base_edges", &o.edges.base_edges);
     r.Get(n, "avoid.edges", "sigma_px", &o.edges.sigma_px);
     r.Get(n, "avoid.edges", "low_threshold", &o.edges.low_threshold);
     r.Get(n, "avoid.edges", "high_threshold", &o.edges.high_threshold);
   }
   if (const YAML::Node n = a["outline"]) {
-    r.RequireMap(n, "avoid.outline", {"window_width_px", "window_height_px", "ground_stop_radius_px", "max_gap_rows"});
+    r.RequireMap(n, "avoid.outline", {"window_width_px", "window_height_px", "ground_stop_radius_px", "max_gap_rows",
+                                      "base_trace", "base_max_rise_px", "base_min_step"});
+    r.Get(n, "avoid.outline", "base_trace", &o.outline.base_trace);
+    r.Get(n, "avoid.outline", "base_max_rise_px", &o.outline.base_max_rise_px);
+    r.Get(n, "avoid.outline", "base_min_step", &o.outline.base_min_step);
     r.Get(n, "avoid.outline", "window_width_px", &o.outline.window_width_px);
     r.Get(n, "avoid.outline", "window_height_px", &o.outline.window_height_px);
     r.Get(n, "avoid.outline", "ground_stop_radius_px", &o.outline.ground_stop_radius_px);
@@ -129,11 +135,14 @@ std::string AvoidOptionsToYaml(const AvoidOptions& o) {
   e << YAML::BeginMap << YAML::Key << "avoid" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "edges" << YAML::Value << YAML::BeginMap << YAML::Key << "sigma_px" << YAML::Value
     << o.edges.sigma_px << YAML::Key << "low_threshold" << YAML::Value << o.edges.low_threshold << YAML::Key
-    << "high_threshold" << YAML::Value << o.edges.high_threshold << YAML::EndMap;
+    << "high_threshold" << YAML::Value << o.edges.high_threshold << YAML::Key << "base_edges" << YAML::Value
+    << o.edges.base_edges << YAML::EndMap;
   e << YAML::Key << "outline" << YAML::Value << YAML::BeginMap << YAML::Key << "window_width_px" << YAML::Value
     << o.outline.window_width_px << YAML::Key << "window_height_px" << YAML::Value << o.outline.window_height_px
     << YAML::Key << "ground_stop_radius_px" << YAML::Value << o.outline.ground_stop_radius_px << YAML::Key
-    << "max_gap_rows" << YAML::Value << o.outline.max_gap_rows << YAML::EndMap;
+    << "max_gap_rows" << YAML::Value << o.outline.max_gap_rows << YAML::Key << "base_trace" << YAML::Value
+    << o.outline.base_trace << YAML::Key << "base_max_rise_px" << YAML::Value << o.outline.base_max_rise_px
+    << YAML::Key << "base_min_step" << YAML::Value << o.outline.base_min_step << YAML::EndMap;
   e << YAML::Key << "polar" << YAML::Value << YAML::BeginMap << YAML::Key << "roi_radius_m" << YAML::Value
     << o.polar.roi_radius_m << YAML::Key << "sector_deg" << YAML::Value << o.polar.sector_deg << YAML::Key
     << "min_contacts" << YAML::Value << o.polar.min_contacts << YAML::Key << "free_needs_ground" << YAML::Value
@@ -151,11 +160,8 @@ AvoidFileOptions AvoidFileOptionsFromYaml(const std::string& text, const std::st
   CheckTopLevel(root, source);
   AvoidFileOptions out;
   out.avoid = ParseAvoid(root, source, out.avoid);
-  if (root && root.IsMap() && root["ipt"] && !root["ipt"].IsNull()) {
-    YAML::Emitter e;
-    e << root["ipt"];
-    out.ipt = IptOptionsFromYaml(e.c_str(), source + " (section ipt)");
-  }
+  // The IPT reader takes the same text: its `ipt:` section, or its keys at the top level.
+  out.ipt = IptOptionsFromYaml(text, source);
   return out;
 }
 

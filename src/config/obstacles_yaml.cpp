@@ -62,16 +62,44 @@ class Reader {
 
 }  // namespace
 
+namespace {
+
+// The IPT part of a (possibly shared) options file: the `ipt:` section when there is one, else the
+// top level without the other readers' sections. Sets `where` to name the section in errors.
+YAML::Node IptPart(const YAML::Node& doc, const std::string& source, std::string* where) {
+  *where = source;
+  if (!doc.IsMap()) return doc;
+  const std::set<std::string> others(std::begin(kNonIptSections), std::end(kNonIptSections));
+  YAML::Node own(YAML::NodeType::Map);
+  for (const auto& kv : doc) {
+    const std::string name = kv.first.as<std::string>();
+    if (others.count(name) || name == "ipt") continue;
+    own[name] = kv.second;
+  }
+  const YAML::Node ipt = doc["ipt"];
+  if (!ipt) return own;
+  if (own.size() != 0)
+    throw Error(source + ": `" + own.begin()->first.as<std::string>() +
+                "` must not stand at the top level beside an `ipt:` section (put the IPT options under `ipt:`)");
+  *where = source + " (section ipt)";
+  return ipt;
+}
+
+}  // namespace
+
 IptOptions IptOptionsFromYaml(const std::string& text, const std::string& source, const IptOptions& base) {
   IptOptions o = base;
-  YAML::Node root;
+  YAML::Node doc;
   try {
-    root = YAML::Load(text);
+    doc = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw Error(source + ": not valid YAML (line " + std::to_string(e.mark.line + 1) + "): " + e.msg);
   }
-  const Reader r(source);
+  if (!doc || doc.IsNull()) return o;
+  std::string where;
+  const YAML::Node root = IptPart(doc, source, &where);
   if (!root || root.IsNull()) return o;
+  const Reader r(where);
   r.RequireMap(root, "", {"features", "fundamental", "classifier", "min_translation_m", "pure_rotation_deg"});
 
   if (const YAML::Node f = root["features"]) {
@@ -143,7 +171,7 @@ IptOptions IptOptionsFromYaml(const std::string& text, const std::string& source
   }
   r.Get(root, "", "min_translation_m", &o.min_translation_m);
   r.Get(root, "", "pure_rotation_deg", &o.pure_rotation_deg);
-  if (auto why = o.Validate(); !why.empty()) throw Error(source + ": invalid options: " + why);
+  if (auto why = o.Validate(); !why.empty()) throw Error(where + ": invalid options: " + why);
   return o;
 }
 

@@ -89,8 +89,9 @@ cv::Mat DrawAvoidOverlay(const cv::Mat& gray, std::span<const ClassifiedFeature>
                cv::LINE_AA);
 
   cv::Mat edges_big, middle;
-  cv::resize(*r.edges, edges_big, cv::Size(), scale, scale, cv::INTER_NEAREST);
-  edges_big = edges_big / 3;  // dim, so that the outlines stand out
+  cv::Mat both = *r.edges / 3;  // dim, so that the outlines stand out
+  if (r.base_edges && !r.base_edges->empty()) both = cv::max(both, *r.base_edges / 5);  // horizontal edges dimmer
+  cv::resize(both, edges_big, cv::Size(), scale, scale, cv::INTER_NEAREST);
   cv::cvtColor(edges_big, middle, cv::COLOR_GRAY2BGR);
   DrawOutlinesAndContacts(middle, r, roi_m, scale);
 

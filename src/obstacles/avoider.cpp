@@ -29,7 +29,7 @@ Avoider::Avoider(const CameraModel& camera, AvoidOptions options)
       edges_(options_.edges),
       tracer_(options_.outline),
       polar_(camera_, options_.polar) {
-  result_.contacts.reserve(256);
+  result_.contacts.reserve(2048);
   result_.gaps.reserve(64);
   result_.ground_floor_m.reserve(512);
 }
@@ -38,11 +38,15 @@ const AvoidResult& Avoider::Process(const cv::Mat& gray, std::span<const Classif
   SQUINT_ENSURE(gray.type() == CV_8UC1 && gray.cols == camera_.width && gray.rows == camera_.height,
                 "Avoider::Process needs an 8-bit grey image of the camera's size");
   result_.edges = &edges_.Compute(gray);
-  result_.traces = &tracer_.Trace(*result_.edges, features);
+  result_.base_edges = &edges_.BaseEdges();
+  result_.traces = &tracer_.Trace(*result_.edges, edges_.BaseEdges(), gray, features);
   result_.outline_pixels = &tracer_.Pixels();
   result_.contacts.clear();
   for (const OutlineTrace& t : *result_.traces) {
     if (auto c = ContactFromPixel(camera_, t.contact_px.cast<double>())) result_.contacts.push_back(*c);
+  }
+  for (const Eigen::Vector2i& p : tracer_.BaseContacts()) {
+    if (auto c = ContactFromPixel(camera_, p.cast<double>())) result_.contacts.push_back(*c);
   }
   result_.ground_floor_m.clear();
   for (const ClassifiedFeature& f : features) {

@@ -32,22 +32,35 @@ EdgeMapper::EdgeMapper(EdgeMapOptions options) : options_(options) {
     if (v > 0) positive += v;
   }
   kernel_ /= positive;
+  kernel_t_ = kernel_.t();
 }
 
 const cv::Mat& EdgeMapper::Compute(const cv::Mat& gray) {
   SQUINT_ENSURE(gray.type() == CV_8UC1 && !gray.empty(), "EdgeMapper::Compute needs a non-empty 8-bit grey image");
   cv::filter2D(gray, gradient_, CV_32F, kernel_, cv::Point(-1, -1), 0.0, cv::BORDER_REPLICATE);
   gradient_ = cv::abs(gradient_);  // in place for a MatExpr of the same size and type
-  const int w = gray.cols, h = gray.rows;
-  edges_.create(h, w, CV_8U);
-  edges_.setTo(0);
+  Hysteresis(gradient_, edges_);
+  if (options_.base_edges) {
+    cv::filter2D(gray, gradient_v_, CV_32F, kernel_t_, cv::Point(-1, -1), 0.0, cv::BORDER_REPLICATE);
+    gradient_v_ = cv::abs(gradient_v_);
+    Hysteresis(gradient_v_, base_edges_);
+  } else {
+    base_edges_.release();
+  }
+  return edges_;
+}
+
+void EdgeMapper::Hysteresis(const cv::Mat& gradient, cv::Mat& edges) {
+  const int w = gradient.cols, h = gradient.rows;
+  edges.create(h, w, CV_8U);
+  edges.setTo(0);
   stack_.clear();
   const float lo = static_cast<float>(options_.low_threshold);
   const float hi = static_cast<float>(options_.high_threshold);
   // Seeds: every pixel above the high threshold.
   for (int v = 0; v < h; ++v) {
-    const float* g = gradient_.ptr<float>(v);
-    std::uint8_t* e = edges_.ptr<std::uint8_t>(v);
+    const float* g = gradient.ptr<float>(v);
+    std::uint8_t* e = edges.ptr<std::uint8_t>(v);
     for (int u = 0; u < w; ++u) {
       if (g[u] > hi) {
         e[u] = 255;
@@ -64,8 +77,8 @@ const cv::Mat& EdgeMapper::Compute(const cv::Mat& gray) {
     for (int dv = -1; dv <= 1; ++dv) {
       const int v = v0 + dv;
       if (v < 0 || v >= h) continue;
-      const float* g = gradient_.ptr<float>(v);
-      std::uint8_t* e = edges_.ptr<std::uint8_t>(v);
+      const float* g = gradient.ptr<float>(v);
+      std::uint8_t* e = edges.ptr<std::uint8_t>(v);
       for (int du = -1; du <= 1; ++du) {
         const int u = u0 + du;
         if (u < 0 || u >= w || e[u] != 0) continue;
@@ -76,7 +89,6 @@ const cv::Mat& EdgeMapper::Compute(const cv::Mat& gray) {
       }
     }
   }
-  return edges_;
 }
 
 }  // namespace squint::obstacles

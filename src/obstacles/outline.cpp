@@ -2,6 +2,8 @@
 #include "squint/obstacles/outline.hpp"
 
 #include <cmath>
+#include <optional>
+#include <utility>
 
 #include "squint/core/error.hpp"
 
@@ -12,6 +14,8 @@ std::string OutlineOptions::Validate() const {
   if (window_height_px < 1 || window_height_px % 2 == 0) return "outline.window_height_px must be a positive odd number";
   if (ground_stop_radius_px < 0) return "outline.ground_stop_radius_px must be >= 0";
   if (max_gap_rows < 0) return "outline.max_gap_rows must be >= 0";
+  if (base_max_rise_px < 0 || base_max_rise_px > 8) return "outline.base_max_rise_px must be in [0, 8]";
+  if (!(base_min_step >= 0.0 && base_min_step <= 255.0)) return "outline.base_min_step must be in [0, 255]";
   return {};
 }
 
@@ -27,7 +31,20 @@ int RoundPx(double x) { return static_cast<int>(std::lround(x)); }
 
 const std::vector<OutlineTrace>& OutlineTracer::Trace(const cv::Mat& edges,
                                                        std::span<const ClassifiedFeature> features) {
+  return Trace(edges, cv::Mat(), cv::Mat(), features);
+}
+
+const std::vector<OutlineTrace>& OutlineTracer::Trace(const cv::Mat& edges, const cv::Mat& base_edges,
+                                                       const cv::Mat& gray,
+                                                       std::span<const ClassifiedFeature> features) {
   SQUINT_ENSURE(edges.type() == CV_8UC1, "OutlineTracer::Trace needs a CV_8U edge mask");
+  const bool base = options_.base_trace && !base_edges.empty();
+  if (base) {
+    SQUINT_ENSURE(base_edges.type() == CV_8UC1 && base_edges.size() == edges.size() && gray.type() == CV_8UC1 &&
+                      gray.size() == edges.size(),
+                  "OutlineTracer::Trace needs a CV_8U base-edge mask and grey image of the edge mask's size");
+  }
+  base_.clear();
   const int w = edges.cols, h = edges.rows;
   traces_.clear();
   pixels_.clear();
@@ -35,6 +52,10 @@ const std::vector<OutlineTrace>& OutlineTracer::Trace(const cv::Mat& edges,
   ground_.setTo(0);
   visited_.create(h, w, CV_8U);
   visited_.setTo(0);
+  if (base) {
+    base_visited_.create(h, w, CV_8U);
+    base_visited_.setTo(0);
+  }
 
   const int r = options_.ground_stop_radius_px;
   for (const ClassifiedFeature& f : features) {
@@ -97,11 +118,74 @@ const std::vector<OutlineTrace>& OutlineTracer::Trace(const cv::Mat& edges,
         }
         trace.contact_px = Eigen::Vector2i(u, v);
         // A branch that merged keeps its pixels (for drawing) but adds no contact.
-        if (!merged) traces_.push_back(trace);
+        if (merged) continue;
+        if (base) TraceBase(base_edges, gray, &trace);
+        traces_.push_back(trace);
       }
     }
   }
   return traces_;
+}
+
+namespace {
+// Mean grey of rows v+from..v+to (clamped to the image) in column u.
+double ColumnMean(const cv::Mat& gray, int u, int v, int from, int to) {
+  double sum = 0.0;
+  int n = 0;
+  for (int dv = from; dv <= to; ++dv) {
+    const int r = v + dv;
+    if (r < 0 || r >= gray.rows) continue;
+    sum += gray.at<std::uint8_t>(r, u);
+    ++n;
+  }
+  return n ? sum / n : 0.0;
+}
+}  // namespace
+
+void OutlineTracer::TraceBase(const cv::Mat& base_edges, const cv::Mat& gray, OutlineTrace* trace) {
+  trace->base_first = static_cast<int>(base_.size());
+  const int w = base_edges.cols, h = base_edges.rows;
+  // Grey step across a base pixel: below minus above (a dark obstacle on a light floor is positive).
+  auto step = [&](int u, int v) { return ColumnMean(gray, u, v, 2, 4) - ColumnMean(gray, u, v, -4, -2); };
+  // The base pixel in column u nearest row v (0, -1, +1, -2, +2, ... up to `rise`) that is not
+  // yet traced and steps with `sign` (any sign when 0); none at a traced base or (unless
+  // at_ground_ok: the corner of a trace that stopped on the floor) a ground feature.
+  auto next = [&](int u, int v, int rise, int sign, bool at_ground_ok) -> std::optional<std::pair<int, int>> {
+    if (u < 0 || u >= w) return std::nullopt;
+    for (int k = 0; k <= 2 * rise; ++k) {
+      const int nv = v + ((k % 2 == 0) ? k / 2 : -(k + 1) / 2);
+      if (nv < 0 || nv >= h || base_edges.at<std::uint8_t>(nv, u) == 0) continue;
+      if (base_visited_.at<std::uint8_t>(nv, u) != 0 || (!at_ground_ok && ground_.at<std::uint8_t>(nv, u) != 0))
+        return std::nullopt;
+      const double s = step(u, nv);
+      if (std::abs(s) < options_.base_min_step) continue;
+      const int sg = s > 0 ? 1 : -1;
+      if (sign != 0 && sg != sign) continue;
+      return std::make_pair(nv, sg);
+    }
+    return std::nullopt;
+  };
+  auto add = [&](int u, int v) {
+    base_visited_.at<std::uint8_t>(v, u) = 1;
+    base_.emplace_back(u, v);
+    pixels_.emplace_back(u, v);
+  };
+  // The corner: the base pixel at or next to the contact.
+  const Eigen::Vector2i c = trace->contact_px;
+  const auto corner = next(c.x(), c.y(), std::max(2, options_.base_max_rise_px), 0, true);
+  if (corner) {
+    add(c.x(), corner->first);
+    const int sign = corner->second;
+    for (const int dir : {-1, 1}) {
+      int u = c.x(), v = corner->first;
+      while (const auto n = next(u + dir, v, options_.base_max_rise_px, sign, false)) {
+        u += dir;
+        v = n->first;
+        add(u, v);
+      }
+    }
+  }
+  trace->base_count = static_cast<int>(base_.size()) - trace->base_first;
 }
 
 }  // namespace squint::obstacles

@@ -105,6 +105,34 @@ TEST(AvoidCommandTest, BadInputGivesOneLineAndNoOutput) {
   fs::remove(opts);
 }
 
+// One options file with `ipt:` and `avoid:` sections serves both `squint obstacles` and
+// `squint avoid` (the obstacles reader used to reject the `avoid:` section).
+TEST(AvoidCommandTest, OneOptionsFileServesObstaclesAndAvoid) {
+  if (!fs::exists(kSequence)) GTEST_SKIP() << "no shared data at " << kSequence;
+  const fs::path dir = TempDir("shared-options");
+  fs::create_directories(dir);
+  const fs::path opts = dir / "options.yaml";
+  std::ofstream(opts) << "ipt:\n  features: {detector: sift}\n  min_translation_m: 0.005\n"
+                         "avoid:\n  polar: {roi_radius_m: 1.5}\n  gap: {margin_m: 0.05}\n";
+  Output r = RunSquint("obstacles " + kSequence.string() + " --options " + opts.string() + " --out " +
+                       (dir / "features.csv").string());
+  EXPECT_EQ(r.status, 0) << r.text;
+  EXPECT_TRUE(fs::exists(dir / "features.csv"));
+  r = RunSquint("avoid " + kSequence.string() + " --no-overlays --options " + opts.string() + " --out " +
+                (dir / "avoid").string());
+  EXPECT_EQ(r.status, 0) << r.text;
+  EXPECT_TRUE(fs::exists(dir / "avoid" / "steering.csv"));
+  // A mistake in the IPT section is named for both commands.
+  std::ofstream(opts) << "ipt:\n  features: {detector: surf}\navoid: {}\n";
+  for (const std::string cmd : {"obstacles", "avoid"}) {
+    r = RunSquint(cmd + " " + kSequence.string() + " --options " + opts.string() + " --out " + (dir / "x").string());
+    EXPECT_EQ(r.status, 1) << cmd;
+    EXPECT_NE(r.text.find("(section ipt): `features.detector`"), std::string::npos) << cmd << ": " << r.text;
+    EXPECT_FALSE(fs::exists(dir / "x")) << cmd;
+  }
+  fs::remove_all(dir);
+}
+
 TEST(EvalAvoidCommandTest, ReportsTheTargets) {
   if (!fs::exists(kSequence)) GTEST_SKIP() << "no shared data at " << kSequence;
   const fs::path out = TempDir("eval");

@@ -67,6 +67,21 @@ TEST(AvoidYamlTest, TheSharedFileFeedsBothReaders) {
   EXPECT_EQ(both.avoid.gap.margin_m, 0.1);
 }
 
+TEST(AvoidYamlTest, TheFlatIptFormatFeedsBothReadersToo) {
+  const auto both = AvoidFileOptionsFromYaml(
+      "features: {detector: orb}\nmin_translation_m: 0.02\navoid:\n  polar: {sector_deg: 10}\n", "f.yaml");
+  EXPECT_EQ(both.ipt.features.detector, obstacles::Detector::kOrb);
+  EXPECT_EQ(both.ipt.min_translation_m, 0.02);
+  EXPECT_EQ(both.avoid.polar.sector_deg, 10.0);
+  // Mistakes in the IPT part are still named.
+  try {
+    AvoidFileOptionsFromYaml("ipt:\n  features: {ratio: abc}\navoid: {}\n", "f.yaml");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("f.yaml (section ipt): `features.ratio`"), std::string::npos) << e.what();
+  }
+}
+
 TEST(AvoidYamlTest, ErrorsNameTheFileAndKey) {
   EXPECT_NE(ErrorOf("avoid:\n  polar: {radius: 2}\n").find("opts.yaml: `avoid.polar.radius` is not a known option"),
             std::string::npos);

@@ -59,5 +59,50 @@ TEST(ObstaclesYaml, MistakesNameTheFileAndKey) {
   EXPECT_THROW(LoadIptOptions("/nonexistent/opts.yaml"), Error);
 }
 
+// One options file serves `squint obstacles` and `squint avoid`: the IPT reader takes the `ipt:`
+// section (or its keys at the top level) and skips the other commands' sections.
+TEST(ObstaclesYaml, SharedFileWithAnAvoidSection) {
+  const std::string shared =
+      "ipt:\n  features: {detector: orb, max_features: 77}\n  min_translation_m: 0.01\n"
+      "avoid:\n  polar: {roi_radius_m: 2.0}\n  gap: {margin_m: 0.1}\n";
+  const auto a = IptOptionsFromYaml(shared, "shared.yaml");
+  EXPECT_EQ(a.features.detector, obstacles::Detector::kOrb);
+  EXPECT_EQ(a.features.max_features, 77);
+  EXPECT_EQ(a.min_translation_m, 0.01);
+  // The flat format beside an `avoid:` (and the other readers') sections.
+  const auto b = IptOptionsFromYaml(
+      "features: {detector: klt}\nfundamental: {min_matches: 20}\navoid:\n  gap: {margin_m: 0.1}\n"
+      "corridor: {}\nexplore: {}\nsim: {}\n",
+      "flat.yaml");
+  EXPECT_EQ(b.features.detector, obstacles::Detector::kKlt);
+  EXPECT_EQ(b.fundamental.min_matches, 20);
+  // Only other sections: the defaults.
+  EXPECT_EQ(IptOptionsToYaml(IptOptionsFromYaml("avoid:\n  gap: {margin_m: 0.1}\n", "x")),
+            IptOptionsToYaml(obstacles::IptOptions{}));
+  EXPECT_EQ(IptOptionsToYaml(IptOptionsFromYaml("ipt:\navoid: {}\n", "x")), IptOptionsToYaml(obstacles::IptOptions{}));
+  // A round trip through the section.
+  obstacles::IptOptions o;
+  o.features.max_features = 321;
+  o.classifier.zones[1] = {0.03, 0.07};
+  std::string nested = "ipt:\n";
+  const std::string flat = IptOptionsToYaml(o);
+  for (std::size_t i = 0; i < flat.size();) {
+    const std::size_t j = flat.find('\n', i);
+    nested += "  " + flat.substr(i, j - i) + "\n";
+    i = j + 1;
+  }
+  EXPECT_EQ(IptOptionsToYaml(IptOptionsFromYaml(nested + "avoid: {}\n", "n")), flat);
+}
+
+TEST(ObstaclesYaml, SharedFileMistakesAreNamed) {
+  EXPECT_NE(ErrorOf("ipt:\n  features: {detector: surf}\navoid: {}\n").find("opts.yaml (section ipt): `features.detector`"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("ipt:\n  featurs: {}\n").find("`featurs` is not a known option"), std::string::npos);
+  EXPECT_NE(ErrorOf("ipt:\n  features: {}\nfundamental: {}\n").find("`fundamental` must not stand at the top level"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("avod: {}\n").find("`avod` is not a known option"), std::string::npos);
+  EXPECT_NE(ErrorOf("ipt: [1, 2]\n").find("must be a mapping"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace squint::config

@@ -1,6 +1,7 @@
 // The avoidance options (`squint avoid --options FILE`): a YAML mirror of obstacles::AvoidOptions
 // under a top-level `avoid:` section. The same file may hold the IPT detection options under
-// `ipt:` (the format of config/obstacles_yaml.hpp); each reader ignores the other's section.
+// `ipt:` or as their keys at the top level (config/obstacles_yaml.hpp); each reader ignores the
+// other's part, so one file serves `squint obstacles`, `squint avoid` and `squint eval avoid`.
 // Every key is optional; absent keys keep the structs' defaults.
 //
 //   ipt:                      # obstacles::IptOptions, as `squint obstacles --options` reads
@@ -32,7 +33,7 @@ obstacles::AvoidOptions AvoidOptionsFromYaml(const std::string& text, const std:
 // Every member under `avoid:`, so that reading the text back gives equal options.
 std::string AvoidOptionsToYaml(const obstacles::AvoidOptions& options);
 
-// Both halves of an avoidance options file: the `ipt:` section (parsed by
+// Both halves of an avoidance options file: the IPT part (`ipt:` or the flat keys, parsed by
 // config::IptOptionsFromYaml) and the `avoid:` section.
 struct AvoidFileOptions {
   obstacles::IptOptions ipt;

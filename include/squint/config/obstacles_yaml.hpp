@@ -19,6 +19,10 @@
 //     zoning: {dst_m: 1.5, step_m: 0.031, zone2_min_d_m: 0.08, zone0_max_d_m: 0.001}
 //   min_translation_m: 0.005
 //   pure_rotation_deg: 0.5
+//
+// The same keys may instead sit under a top-level `ipt:` section, so that one file also holds
+// the other commands' sections (`avoid:`, `corridor:`, `explore:`, `sim:`), which this reader
+// ignores (config/avoid_yaml.hpp reads `avoid:`).
 #pragma once
 
 #include <filesystem>
@@ -28,8 +32,15 @@
 
 namespace squint::config {
 
-// Parses YAML text on top of `base`. Throws squint::Error naming `source` and the offending key for
-// a parse error, an unknown key, a wrong type or options that fail Validate().
+// The top-level keys of the IPT options (the flat format).
+inline constexpr const char* kIptTopLevelKeys[] = {"features", "fundamental", "classifier", "min_translation_m",
+                                                   "pure_rotation_deg"};
+// Sections of a shared options file that belong to other readers.
+inline constexpr const char* kNonIptSections[] = {"avoid", "corridor", "explore", "sim"};
+
+// Parses YAML text on top of `base`: the IPT keys at the top level, or under `ipt:` (not both);
+// the other readers' sections are skipped. Throws squint::Error naming `source` and the offending
+// key for a parse error, an unknown key, a wrong type or options that fail Validate().
 obstacles::IptOptions IptOptionsFromYaml(const std::string& text, const std::string& source,
                                          const obstacles::IptOptions& base = {});
 // Reads a file; throws squint::Error naming the file when missing or invalid.

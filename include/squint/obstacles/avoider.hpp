@@ -32,6 +32,7 @@ struct AvoidOptions {
 // Everything one Process() call found; references into the Avoider, valid until the next call.
 struct AvoidResult {
   const cv::Mat* edges = nullptr;                     // CV_8U, 255 on edge pixels
+  const cv::Mat* base_edges = nullptr;                // CV_8U horizontal edges; empty when off
   const std::vector<OutlineTrace>* traces = nullptr;  // one per contact-giving outline
   const std::vector<Eigen::Vector2i>* outline_pixels = nullptr;
   std::vector<ContactPoint> contacts;  // every contact below the horizon (in and beyond the ROI)

@@ -1,5 +1,6 @@
 // Edge map for obstacle outlines (obstacle paper §5.1): one horizontal 1-D Gaussian-derivative
-// convolution (vertical edges), then hysteresis thresholding.
+// convolution (vertical edges), then hysteresis thresholding. Beyond the paper, optionally the same
+// with the kernel turned vertical (horizontal edges: where an obstacle's base meets the floor).
 #pragma once
 
 #include <string>
@@ -17,6 +18,9 @@ struct EdgeMapOptions {
   // the intensity jump across a vertical edge, in grey levels.
   double low_threshold = 40.0;
   double high_threshold = 50.0;
+  // Beyond the paper: also compute the horizontal-edge map (the same kernel and thresholds on
+  // |dI/dv|), which the outline tracer follows along obstacle bases.
+  bool base_edges = true;
 
   // Empty when valid, otherwise what is wrong.
   std::string Validate() const;
@@ -32,6 +36,8 @@ class EdgeMapper {
   // pixels, 0 elsewhere. The reference stays valid until the next call.
   const cv::Mat& Compute(const cv::Mat& gray);
 
+  // The last horizontal-edge mask (|dI/dv| with the same hysteresis); empty when base_edges is off.
+  const cv::Mat& BaseEdges() const { return base_edges_; }
   // The last |dI/du| response (CV_32F), for drawing and tests.
   const cv::Mat& Gradient() const { return gradient_; }
   const EdgeMapOptions& Options() const { return options_; }
@@ -43,7 +49,12 @@ class EdgeMapper {
   cv::Mat kernel_;    // 1 x N, CV_32F
   cv::Mat gradient_;  // CV_32F, |response|
   cv::Mat edges_;     // CV_8U
+  cv::Mat kernel_t_;  // N x 1: the kernel turned vertical
+  cv::Mat gradient_v_;  // CV_32F, |dI/dv|
+  cv::Mat base_edges_;  // CV_8U
   std::vector<int> stack_;
+
+  void Hysteresis(const cv::Mat& gradient, cv::Mat& edges);
 };
 
 }  // namespace squint::obstacles

@@ -1,6 +1,8 @@
 // Obstacle outlines (obstacle paper §5.1, §6.3): from each obstacle feature, the edge pixels in
 // a window around it are traced downward until the last edge pixel or a ground feature; where a
-// trace ends is an obstacle-to-floor contact point (in pixels).
+// trace ends is an obstacle-to-floor contact point (in pixels). Beyond the paper, from each contact
+// the obstacle's base is followed sideways along the horizontal-edge map, every base pixel being a
+// contact too (so a box's front between its two vertical borders is not left free).
 #pragma once
 
 #include <span>
@@ -24,6 +26,13 @@ struct OutlineOptions {
   // Rows a trace may jump over when the edge below is broken (0 = the paper: stop at the last
   // edge pixel).
   int max_gap_rows = 0;
+  // Beyond the paper: follow the base from each contact along the horizontal-edge map (left and
+  // right, one column per step, up to base_max_rise_px rows up or down), while the grey level
+  // steps across it by at least base_min_step (mean of the rows 2-4 above against 2-4 below, with
+  // one sign all along: a base, not a thin floor line) and until a ground feature.
+  bool base_trace = true;
+  int base_max_rise_px = 1;
+  double base_min_step = 20.0;
 
   std::string Validate() const;
 };
@@ -34,6 +43,8 @@ struct OutlineTrace {
   int count = 0;
   Eigen::Vector2i contact_px;  // the last pixel: where the obstacle meets the floor
   bool stopped_on_ground = false;
+  int base_first = 0;  // its base pixels (each a contact): index into OutlineTracer::BaseContacts()
+  int base_count = 0;
 };
 
 // Traces outlines into buffers reused from frame to frame. Not thread-safe.
@@ -46,9 +57,15 @@ class OutlineTracer {
   // given order, seeds top-to-bottom then left-to-right); a trace that joins a pixel already on
   // another outline ends there and adds no contact.
   const std::vector<OutlineTrace>& Trace(const cv::Mat& edges, std::span<const ClassifiedFeature> features);
+  // The same, then each contact's base is followed along `base_edges` (CV_8U, as
+  // EdgeMapper::BaseEdges gives) with the step test on `gray` (CV_8U), when base_trace is on.
+  const std::vector<OutlineTrace>& Trace(const cv::Mat& edges, const cv::Mat& base_edges, const cv::Mat& gray,
+                                         std::span<const ClassifiedFeature> features);
 
   // Every outline pixel of the last call, including branches that merged into another outline.
   const std::vector<Eigen::Vector2i>& Pixels() const { return pixels_; }
+  // Every base pixel of the last call (each one a contact), in trace order.
+  const std::vector<Eigen::Vector2i>& BaseContacts() const { return base_; }
   const OutlineOptions& Options() const { return options_; }
 
  private:
@@ -57,6 +74,10 @@ class OutlineTracer {
   cv::Mat visited_;  // CV_8U: 1 on a traced outline
   std::vector<OutlineTrace> traces_;
   std::vector<Eigen::Vector2i> pixels_;
+  std::vector<Eigen::Vector2i> base_;
+  cv::Mat base_visited_;  // CV_8U: 1 on a traced base
+
+  void TraceBase(const cv::Mat& base_edges, const cv::Mat& gray, OutlineTrace* trace);
 };
 
 }  // namespace squint::obstacles
