@@ -51,6 +51,10 @@ std::string ExploreRunOptions::Validate() const {
   if (!(frame_rate_hz >= 1.0 && frame_rate_hz <= 200.0)) return "frame_rate_hz must be in [1, 200]";
   if (glance_supersample < 1 || glance_supersample > 8) return "glance_supersample must be in [1, 8]";
   if (!(sensor_noise_sigma >= 0.0) || !std::isfinite(sensor_noise_sigma)) return "sensor_noise_sigma must be >= 0";
+  if (sonar_every < 1 || sonar_every > 30) return "sonar_every must be in [1, 30]";
+  if (sonar_width < 16 || sonar_width > 640 || sonar_height < 12 || sonar_height > 480) return "sonar size must be within 16x12..640x480";
+  if (sonar_supersample < 1 || sonar_supersample > 8) return "sonar_supersample must be in [1, 8]";
+  if (std::string e = sonar.Validate(); !e.empty()) return "sonar." + e;
   if (std::string e = explorer.Validate(); !e.empty()) return "explorer." + e;
   if (std::string e = perception.Validate(); !e.empty()) return "perception." + e;
   if (std::string e = odometry.Validate(); !e.empty()) return "odometry." + e;
@@ -77,7 +81,23 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   robot_options.odometry.seed = options.seed * 7919u + 17u;
   const Pose2 start = options.start.value_or(world.start);
   sim::Robot robot(world, start, robot_options);
-  explore::Explorer explorer(options.explorer);
+  explore::ExplorerOptions explorer_options = options.explorer;
+  explorer_options.robot_radius_m = world.robot.radius_m;
+  explore::Explorer explorer(explorer_options);
+
+  // The visual sonar's frame: the same camera at a small size, rendered at a sub-rate.
+  std::optional<sim::Renderer> sonar_renderer;
+  std::optional<explore::VisualSonar> sonar;
+  cv::Mat sonar_image;
+  if (options.visual_sonar) {
+    const CameraModel sonar_camera = world.camera.Model().Scaled(options.sonar_width, options.sonar_height);
+    sim::RenderOptions sr = render;
+    sr.supersample = options.sonar_supersample;
+    sr.seed = options.seed + 1000003u;
+    sonar_renderer.emplace(world, sonar_camera, sr);
+    sonar.emplace(sonar_camera, options.sonar);
+    sonar_image.create(options.sonar_height, options.sonar_width, CV_8UC1);
+  }
 
   ExploreRunResult out;
   out.world_name = world.name;
@@ -117,7 +137,17 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
     p.dist_end_m = r.dist_end_m;
     p.centre_heading_deg = r.processed ? CentreCue(r) : std::nullopt;
     p.glance_entropy_nats = r.entropy;
+    if (sonar && f % options.sonar_every == 0) {
+      MutableGrayView sv{sonar_image.data, sonar_image.cols, sonar_image.rows, static_cast<std::ptrdiff_t>(sonar_image.step)};
+      sonar_renderer->Render(world_T_robot, sv, nullptr, 0, nullptr, 0, static_cast<std::uint64_t>(f));
+      const double cpu1 = ThreadCpuSeconds();
+      p.sonar = &sonar->Process(sv);
+      p.sonar_near_blind_m = sonar->NearBlindRangeM();
+      perception_cpu += ThreadCpuSeconds() - cpu1;
+    }
+    const double cpu2 = ThreadCpuSeconds();
     const explore::Command cmd = explorer.Step(p);
+    if (p.sonar) perception_cpu += ThreadCpuSeconds() - cpu2;  // the sonar memory update runs inside Step
 
     const sim::StepResult step = robot.Step(cmd.v_mps, cmd.omega_rps);
 

@@ -62,6 +62,22 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(stall_min_progress_m)) return "stall_min_progress_m must be >= 0";
   if (!NonNegative(avoid_gain)) return "avoid_gain must be >= 0";
   if (!(avoid_speed_fraction > 0.0 && avoid_speed_fraction <= 1.0)) return "avoid_speed_fraction must be in (0, 1]";
+  if (!Positive(robot_radius_m)) return "robot_radius_m must be positive";
+  if (!NonNegative(safety_margin_m)) return "safety_margin_m must be >= 0";
+  if (!NonNegative(stop_margin_m)) return "stop_margin_m must be >= 0";
+  if (!Positive(speed_per_free_mps)) return "speed_per_free_mps must be positive";
+  if (!Positive(lookahead_m)) return "lookahead_m must be positive";
+  if (!Positive(gap_step_deg)) return "gap_step_deg must be positive";
+  if (gap_steps < 0 || gap_steps > 36) return "gap_steps must be in [0, 36]";
+  if (!NonNegative(gap_cost_per_deg)) return "gap_cost_per_deg must be >= 0";
+  if (!Positive(sonar_end_free_m)) return "sonar_end_free_m must be positive";
+  if (!Positive(sonar_end_gap_m)) return "sonar_end_gap_m must be positive";
+  if (!Positive(sonar_open_free_m)) return "sonar_open_free_m must be positive";
+  if (!NonNegative(sonar_centre_gain)) return "sonar_centre_gain must be >= 0";
+  if (!Positive(sonar_centre_max_lateral_m)) return "sonar_centre_max_lateral_m must be positive";
+  if (!Positive(rescan_yaw_deg)) return "rescan_yaw_deg must be positive";
+  if (!NonNegative(trust_memory_after_m)) return "trust_memory_after_m must be >= 0";
+  if (std::string e = memory.Validate(); !e.empty()) return "memory." + e;
   if (std::string e = map.Validate(); !e.empty()) return "map." + e;
   return {};
 }
@@ -78,7 +94,7 @@ const char* StateName(ExploreState s) {
   return "?";
 }
 
-Explorer::Explorer(const ExplorerOptions& options) : opt_(options), map_(options.map) {
+Explorer::Explorer(const ExplorerOptions& options) : opt_(options), map_(options.map), memory_(options.memory) {
   const std::string err = opt_.Validate();
   SQUINT_ENSURE(err.empty(), "ExplorerOptions: " + err);
   ref_entropy_.reserve(static_cast<std::size_t>(opt_.reference_window));
@@ -109,15 +125,80 @@ Command Explorer::Step(const Percept& p) {
     state_ = ExploreState::kAlign;  // look first; scan only when the view is not a corridor
   }
   UpdateMapPose(p);
+  UpdateSonar(p);
+  Command cmd;
   switch (state_) {
-    case ExploreState::kScan: return ScanStep(p);
-    case ExploreState::kFollow: return FollowStep(p);
-    case ExploreState::kProbe: return ProbeStep(p);
-    case ExploreState::kTurn: return TurnStep(p);
-    case ExploreState::kBackOff: return BackOffStep(p);
-    case ExploreState::kAlign: return AlignStep(p);
+    case ExploreState::kScan: cmd = ScanStep(p); break;
+    case ExploreState::kFollow: cmd = FollowStep(p); break;
+    case ExploreState::kProbe: cmd = ProbeStep(p); break;
+    case ExploreState::kTurn: cmd = TurnStep(p); break;
+    case ExploreState::kBackOff: cmd = BackOffStep(p); break;
+    case ExploreState::kAlign: cmd = AlignStep(p); break;
   }
-  return {};
+  return Guard(p, cmd);
+}
+
+// --- Visual sonar -------------------------------------------------------------------------------
+
+void Explorer::UpdateSonar(const Percept& p) {
+  if (p.sonar == nullptr) return;
+  memory_.Update(*p.sonar, p.odom_T_robot, p.stamp_s, p.sonar_near_blind_m);
+  memory_.Gather(p.odom_T_robot, p.stamp_s);
+  sonar_seen_ = true;
+  last_scan_yaw_ = p.odom_T_robot.yaw;
+}
+
+double Explorer::Free(const Percept& p, double yaw, double max_m) const {
+  // After driving straight for more than the blind range, what lies in the blind zone ahead was
+  // seen from farther back (and is remembered): the latest scan's blocked-near columns are then
+  // ignored (on textured floors they are mostly floor without a visible step).
+  const bool use_blocked = !(state_ == ExploreState::kFollow && travel_in_corridor_m_ >= opt_.trust_memory_after_m &&
+                             std::abs(WrapPi(yaw - axis_yaw_odom_)) < DegToRad(45.0));
+  return memory_.FreeTravel(p.odom_T_robot, yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m, use_blocked);
+}
+
+double Explorer::BestGap(const Percept& p, double desired_yaw, double* free) const {
+  double best_yaw = desired_yaw;
+  double best_score = -1e9;
+  double best_free = 0.0;
+  for (int k = -opt_.gap_steps; k <= opt_.gap_steps; ++k) {
+    // Candidates in the order 0, -1, +1, -2, ... are not needed: the score breaks ties by angle.
+    const double off_deg = k * opt_.gap_step_deg;
+    const double yaw = WrapPi(desired_yaw + DegToRad(off_deg));
+    const double f = Free(p, yaw, opt_.lookahead_m);
+    const double score = f / opt_.lookahead_m - opt_.gap_cost_per_deg * std::abs(off_deg);
+    if (score > best_score) {
+      best_score = score;
+      best_yaw = yaw;
+      best_free = f;
+    }
+  }
+  *free = best_free;
+  return best_yaw;
+}
+
+Command Explorer::Guard(const Percept& p, Command cmd) {
+  if (!sonar_seen_ || cmd.v_mps == 0.0) return cmd;
+  if (cmd.v_mps > 0.0) {
+    // Forward only into what a scan has seen from (about) this heading.
+    if (std::abs(WrapPi(p.odom_T_robot.yaw - last_scan_yaw_)) > DegToRad(opt_.rescan_yaw_deg)) {
+      ++speed_limited_;
+      return {0.0, cmd.omega_rps};
+    }
+    // The disc's free travel along the heading now and the heading half a second on.
+    const double yaw_ahead = WrapPi(p.odom_T_robot.yaw + 0.5 * cmd.omega_rps);
+    const double free = std::min(Free(p, p.odom_T_robot.yaw, opt_.lookahead_m), Free(p, yaw_ahead, opt_.lookahead_m));
+    const double vmax = std::max(0.0, opt_.speed_per_free_mps * (free - opt_.stop_margin_m));
+    if (cmd.v_mps > vmax) {
+      ++speed_limited_;
+      cmd.v_mps = vmax;
+    }
+  } else {
+    const double free = Free(p, WrapPi(p.odom_T_robot.yaw + kPi), 1.0);
+    const double vmax = std::max(0.0, opt_.speed_per_free_mps * (free - opt_.stop_margin_m));
+    if (-cmd.v_mps > vmax) cmd.v_mps = -vmax;
+  }
+  return cmd;
 }
 
 void Explorer::UpdateMapPose(const Percept& p) {
@@ -213,7 +294,8 @@ Command Explorer::ScanStep(const Percept& p) {
     if (have_axis) {
       for (int k = 0; k < 4; ++k) {
         const double yaw = WrapPi(axis_mod + k * kPi / 2);
-        const double h = entropy_at(yaw);
+        // With the sonar the free travel decides (metres dominate), entropy breaks ties.
+        const double h = entropy_at(yaw) + (sonar_seen_ ? 10.0 * Free(p, yaw, 3.0) : 0.0);
         if (h > best) {
           best = h;
           best_yaw = yaw;
@@ -222,7 +304,7 @@ Command Explorer::ScanStep(const Percept& p) {
     } else {
       for (int i = 0; i < bins; ++i) {
         const double yaw = WrapPi(scan_start_yaw_ + (i + 0.5) * 2 * kPi / bins);
-        const double h = entropy_at(yaw);
+        const double h = entropy_at(yaw) + (sonar_seen_ ? 10.0 * Free(p, yaw, 3.0) : 0.0);
         if (h > best) {
           best = h;
           best_yaw = yaw;
@@ -230,7 +312,7 @@ Command Explorer::ScanStep(const Percept& p) {
       }
     }
     scan_rotating_ = false;
-    last_ref_entropy_ = std::max(best, 0.0);
+    last_ref_entropy_ = std::max(entropy_at(best_yaw), 0.0);
     scan_final_ = Rotation{best_yaw, 0};
   }
   Command cmd;
@@ -370,9 +452,22 @@ Command Explorer::FollowStep(const Percept& p) {
     dist_end_m_ = v[v.size() / 2];
     if (static_cast<int>(dist_hist_.size()) >= opt_.end_median_frames && dist_end_m_ < opt_.end_stop_dist_m && may_end) end_now = true;
   }
-  // (b) the glance entropy against the corridor's reference.
+  // (c) the visual sonar: little free travel along the corridor and no way around.
+  double axis_free = opt_.lookahead_m;
+  bool end_by_sonar = false;
+  if (sonar_seen_) {
+    axis_free = Free(p, axis_yaw_odom_, opt_.lookahead_m);
+    double gap_free = 0.0;
+    if (axis_free < opt_.sonar_end_free_m && may_end) {
+      BestGap(p, axis_yaw_odom_, &gap_free);
+      if (gap_free < opt_.sonar_end_gap_m) end_now = end_by_sonar = true;
+    }
+  }
+  // (b) the glance entropy against the corridor's reference (with the sonar: only where the
+  // sonar also sees something ahead, so that a dip of entropy mid-corridor does not stop it).
   const double ref = ReferenceEntropy();
-  if (p.glance_entropy_nats && ref > 0.0 && *p.glance_entropy_nats < opt_.end_entropy_ratio * ref && may_end) ++entropy_low_count_;
+  const bool entropy_may_end = may_end && (!sonar_seen_ || axis_free < opt_.lookahead_m);
+  if (p.glance_entropy_nats && ref > 0.0 && *p.glance_entropy_nats < opt_.end_entropy_ratio * ref && entropy_may_end) ++entropy_low_count_;
   else entropy_low_count_ = 0;
   if (entropy_low_count_ >= opt_.end_confirm_frames) end_now = true;
   end_count_ = end_now ? opt_.end_confirm_frames : 0;
@@ -382,8 +477,8 @@ Command Explorer::FollowStep(const Percept& p) {
     node_ = map_.Arrive(map_pose_.Translation(), dir_);
     map_.SetBranch(node_, dir_, Branch::kWall);
     Emit(ExploreEvent::Kind::kEndDetected, p, 0,
-         Format("end: fused distance %.2f m, entropy %.2f of reference %.2f", dist_end_m_, p.glance_entropy_nats.value_or(-1.0),
-                last_ref_entropy_));
+         Format("end: fused distance %.2f m, entropy %.2f of reference %.2f, sonar free %.2f m (%s)", dist_end_m_,
+                p.glance_entropy_nats.value_or(-1.0), last_ref_entropy_, axis_free, end_by_sonar ? "sonar" : "entropy/distance"));
     state_ = ExploreState::kProbe;
     probe_phase_ = 0;
     look_count_ = 0;
@@ -418,10 +513,26 @@ Command Explorer::FollowStep(const Percept& p) {
     cmd.v_mps = opt_.cruise_speed_mps * opt_.avoid_speed_fraction;
     return cmd;
   }
-  const double correction = lateral_valid_ ? std::clamp(-opt_.centre_gain * lateral_cue_deg_, -opt_.max_centre_correction_deg,
-                                                        opt_.max_centre_correction_deg)
-                                           : 0.0;
-  const double err = WrapPi(DegToRad(correction) - heading);
+  double correction = lateral_valid_ ? std::clamp(-opt_.centre_gain * lateral_cue_deg_, -opt_.max_centre_correction_deg,
+                                                  opt_.max_centre_correction_deg)
+                                     : 0.0;
+  double target = DegToRad(correction);
+  if (sonar_seen_) {
+    // Centring between the side walls the sonar remembers beside the robot (none when one side
+    // is open), then the free heading nearest to the centring one.
+    double left = -1.0, right = -1.0;
+    memory_.SideDistances(p.odom_T_robot, axis_yaw_odom_, 0.5, opt_.sonar_centre_max_lateral_m, &left, &right);
+    correction = 0.0;
+    if (left > 0.0 && right > 0.0)
+      correction = std::clamp(RadToDeg(-opt_.sonar_centre_gain * 0.5 * (right - left)), -opt_.max_centre_correction_deg,
+                              opt_.max_centre_correction_deg);
+    const double desired_yaw = WrapPi(axis_yaw_odom_ + DegToRad(correction));
+    double free = Free(p, desired_yaw, opt_.lookahead_m);
+    double yaw = desired_yaw;
+    if (free < opt_.lookahead_m) yaw = BestGap(p, desired_yaw, &free);
+    target = WrapPi(yaw - axis_yaw_odom_);
+  }
+  const double err = WrapPi(target - heading);
   cmd.omega_rps = std::clamp(opt_.heading_gain * err, -opt_.max_omega_rps, opt_.max_omega_rps);
   const double frac = std::max(opt_.min_speed_fraction, 1.0 - std::abs(RadToDeg(err)) / opt_.slow_heading_deg);
   cmd.v_mps = opt_.cruise_speed_mps * frac;
@@ -467,9 +578,12 @@ Command Explorer::ProbeStep(const Percept& p) {
     ++look_count_;
   }
   if (look_count_ < opt_.look_frames) return {};
+  // With the sonar, wait for a scan taken facing this side and judge by free travel.
+  if (sonar_seen_ && p.sonar == nullptr) return {};
   const double h = look_sum_ / look_count_;
   side_entropy_[probe_phase_] = h;
-  const bool open = h >= opt_.open_entropy_ratio * last_ref_entropy_;
+  const bool open = sonar_seen_ ? Free(p, rot_.target_yaw, opt_.lookahead_m + 1.0) >= opt_.sonar_open_free_m
+                                : h >= opt_.open_entropy_ratio * last_ref_entropy_;
   map_.SetBranch(node_, side_dir, open ? Branch::kOpen : Branch::kWall);
   ++n_probes_;
   ++probe_phase_;

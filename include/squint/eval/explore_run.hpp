@@ -28,7 +28,15 @@ struct ExploreRunOptions {
   std::optional<Pose2> start;      // world_T_robot at the start; none = the world's start
   int glance_supersample = 2;      // the 32×24 glance is rendered directly, n×n samples per pixel
   double sensor_noise_sigma = 2.0; // grey levels
-  explore::ExplorerOptions explorer;
+  // Visual sonar: a small camera frame (the camera image downsampled) every sonar_every frames
+  // gives range per bearing from the floor boundary; the explorer keeps the robot clear with it.
+  bool visual_sonar = true;
+  int sonar_every = 3;
+  int sonar_width = 64;
+  int sonar_height = 48;
+  int sonar_supersample = 2;
+  explore::VisualSonarOptions sonar;
+  explore::ExplorerOptions explorer;  // robot_radius_m is replaced by the world's robot radius
   corridor::CorridorOptions perception;
   sim::OdometryOptions odometry;   // its seed is replaced by `seed`
   bool keep_trace = true;          // per-frame rows for trace.csv

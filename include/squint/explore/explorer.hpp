@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "squint/explore/obstacle_memory.hpp"
 #include "squint/explore/percept.hpp"
 #include "squint/explore/topo_map.hpp"
 
@@ -75,6 +76,25 @@ struct ExplorerOptions {
   // Obstacle override (used only when Percepts carry ObstacleAdvice).
   double avoid_gain = 1.5;
   double avoid_speed_fraction = 0.5;
+  // Visual sonar (used when Percepts carry scans): remembered floor contacts limit the speed so
+  // that the robot's disc stops before anything it saw, steer around obstacles, centre the
+  // robot between the side walls, detect the corridor's end and tell open sides from walls.
+  double robot_radius_m = 0.25;
+  double safety_margin_m = 0.10;      // kept between the disc and anything remembered
+  double stop_margin_m = 0.08;        // free travel left when the speed limit reaches zero
+  double speed_per_free_mps = 1.2;    // v <= this (1/s) × (free travel − stop margin)
+  double lookahead_m = 2.0;           // free travel that counts as "clear ahead"
+  double gap_step_deg = 5.0;          // candidate headings around the desired one
+  int gap_steps = 9;                  // per side
+  double gap_cost_per_deg = 0.004;    // preference for the desired heading (score per degree)
+  double sonar_end_free_m = 0.85;     // end of corridor: free travel along the axis below this...
+  double sonar_end_gap_m = 1.5;       // ...and no candidate heading with this much free travel
+  double sonar_open_free_m = 2.0;     // probing: a side is open when it is free this far
+  double sonar_centre_gain = 0.35;    // rad of target heading per metre of lateral offset
+  double sonar_centre_max_lateral_m = 1.8;  // side points farther than this do not centre
+  double rescan_yaw_deg = 12.0;       // no forward motion until a scan was taken at the heading
+  double trust_memory_after_m = 1.6;  // following: blocked-near columns ignored after this travel
+  ObstacleMemoryOptions memory;
   TopoMapOptions map;
 
   std::string Validate() const;
@@ -126,6 +146,10 @@ class Explorer {
   const TopoMap& Map() const { return map_; }
   const std::vector<ExploreEvent>& Events() const { return events_; }
   int Turns() const { return turns_; }
+  // The visual sonar's memory (odometry frame), for drawing and tests.
+  const ObstacleMemory& Memory() const { return memory_; }
+  // Times the sonar safety layer lowered a forward command (for logs).
+  long SpeedLimited() const { return speed_limited_; }
   int EndsDetected() const { return ends_; }
 
  private:
@@ -148,6 +172,12 @@ class Explorer {
   void Decide(const Percept& p);
   double ReferenceEntropy() const;
   void Emit(ExploreEvent::Kind kind, const Percept& p, int turn_deg, const std::string& note);
+  // Sonar: memory update, and the last word on every command (speed limit).
+  void UpdateSonar(const Percept& p);
+  Command Guard(const Percept& p, Command cmd);
+  double Free(const Percept& p, double yaw, double max_m) const;
+  // Best heading (odometry yaw) near `desired_yaw` by free travel; its free travel in *free.
+  double BestGap(const Percept& p, double desired_yaw, double* free) const;
 
   ExplorerOptions opt_;
   ExploreState state_ = ExploreState::kScan;
@@ -210,6 +240,13 @@ class Explorer {
 
   int turns_ = 0;
   int ends_ = 0;
+
+  // Visual sonar.
+  ObstacleMemory memory_;
+  bool sonar_seen_ = false;
+  double last_scan_yaw_ = 0.0;
+  long speed_limited_ = 0;
+  int probe_wait_scan_ = 0;
 };
 
 }  // namespace squint::explore

@@ -3,8 +3,10 @@
 #pragma once
 
 #include <optional>
+#include <vector>
 
 #include "squint/core/pose.hpp"
+#include "squint/explore/visual_sonar.hpp"
 
 namespace squint::explore {
 
@@ -29,6 +31,10 @@ struct Percept {
   // Whole-glance grey-level entropy (nats); the gate computes it on every frame, processed or not.
   std::optional<double> glance_entropy_nats;
   std::optional<ObstacleAdvice> obstacles;   // empty when the obstacle pipeline is off
+  // The visual sonar's scan of this frame (range per bearing from the floor boundary of a small
+  // camera frame), when one was taken (a sub-rate); valid during Step() only.
+  const std::vector<SonarColumn>* sonar = nullptr;
+  double sonar_near_blind_m = 0.0;  // the sonar's blind range (nothing nearer is seen)
 };
 
 // Unicycle velocity command.

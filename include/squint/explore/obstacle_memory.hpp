@@ -1,0 +1,78 @@
+// A short-term memory of what the visual sonar saw standing on the floor, kept in the odometry
+// frame so that walls and obstacles stay known after they leave the 60° view or enter the
+// camera's near blind zone; answers how far the robot's disc can travel along a heading.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "squint/core/pose.hpp"
+#include "squint/explore/visual_sonar.hpp"
+
+namespace squint::explore {
+
+struct ObstacleMemoryOptions {
+  double cell_m = 0.1;            // one remembered point per cell of this size
+  int cells = 64;                 // toroidal grid of cells × cells (its period must exceed 2 × query radius)
+  double query_radius_m = 3.0;    // points farther than this from the robot are ignored
+  double keep_seconds = 60.0;     // points older than this are forgotten
+  // A column whose floor reaches at least this far (metres) also clears the blind zone in front
+  // of it (an obstacle standing there would have hidden the bottom rows).
+  double clear_blind_min_range_m = 1.6;
+  std::string Validate() const;
+};
+
+class ObstacleMemory {
+ public:
+  explicit ObstacleMemory(const ObstacleMemoryOptions& options = {});
+
+  // One sonar scan taken at odom_T_robot: clears what the floor seen proves free, stores the
+  // boundaries and near blockages. `near_blind_m`: the sonar's blind range.
+  void Update(const std::vector<SonarColumn>& scan, const Pose2& odom_T_robot, double stamp_s, double near_blind_m);
+  // Collects the remembered points within the query radius of `odom_T_robot` (call once after
+  // the robot moved, before the queries below).
+  void Gather(const Pose2& odom_T_robot, double stamp_s);
+
+  // How far (metres, up to max_m) the disc of `radius_m` can drive straight from the gathered
+  // pose along odometry yaw `yaw` before it touches a remembered point; zero along a direction
+  // the latest scan saw blocked nearer than its blind range.
+  // `use_blocked`: false ignores those of the latest scan's blocked-near columns along which the
+  // floor in the blind zone was seen from farther back (a robot that drove into its present view).
+  double FreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m, bool use_blocked = true) const;
+  // Nearest remembered point abeam on each side, as lateral distances from the robot along the
+  // axis `axis_yaw` (odometry frame), among points within ±along_window_m along the axis.
+  // Negative when none.
+  void SideDistances(const Pose2& odom_T_robot, double axis_yaw, double along_window_m, double max_lateral_m,
+                     double* left_m, double* right_m) const;
+  const std::vector<Eigen::Vector2d>& Gathered() const { return gathered_; }
+  void Clear();
+
+ private:
+  struct Cell {
+    Eigen::Vector2d p = Eigen::Vector2d::Zero();
+    double stamp_s = -1.0;       // < 0: empty
+    double free_stamp_s = -1.0;  // when floor was last seen here (< 0: never)
+  };
+  Cell& At(const Eigen::Vector2d& p);
+  const Cell& At(const Eigen::Vector2d& p) const { return const_cast<ObstacleMemory*>(this)->At(p); }
+  // True when floor was seen (within keep_seconds of `now_s`) along the ray from from_m to to_m.
+  bool SeenFree(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double now_s) const;
+  void Insert(const Eigen::Vector2d& p, double stamp_s);
+  // Removes points along the ray from from_m to to_m; marks floor seen from seen_from_m on.
+  void ClearRay(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double seen_from_m, double stamp_s);
+
+  ObstacleMemoryOptions options_;
+  std::vector<Cell> cells_;
+  std::vector<Eigen::Vector2d> gathered_;
+  // The latest scan's blocked-near columns (odometry yaws), where it was taken, its blind range.
+  std::vector<double> blocked_yaws_;
+  int n_blocked_ = 0;
+  Eigen::Vector2d blocked_from_ = Eigen::Vector2d::Zero();
+  double blocked_range_m_ = 0.0;
+  double blocked_stamp_s_ = 0.0;
+};
+
+}  // namespace squint::explore

@@ -1,0 +1,80 @@
+// A "visual sonar" from one small grey frame: in each image column, the lowest row where the
+// floor ends (a grey-level step scanning up from the bottom) is where something stands on the
+// floor; the camera model (height, pitch, intrinsics) turns that row into a range per bearing
+// (the floor-contact idea of the obstacle paper, eq. 16, applied to every column of a 64×48 frame).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "squint/core/camera.hpp"
+#include "squint/core/image_view.hpp"
+
+namespace squint::explore {
+
+struct VisualSonarOptions {
+  int step_window_rows = 2;      // rows averaged on each side of a candidate boundary
+  double step_threshold = 14.0;  // grey levels between the mean below and the mean above
+  double floor_memory = 0.7;      // running floor mean/variance: weight kept per row upward
+  double floor_sigma_factor = 3.0;  // the step must also exceed this many floor spreads
+  int min_floor_rows = 2;         // a step with fewer floor rows below it reads as blocked near
+  int column_half_width = 1;
+  int median_half_width = 2;     // ranges are the median over 2m + 1 neighbouring columns     // columns averaged on each side (texture suppression)
+  double max_range_m = 6.0;      // boundaries farther than this (or at the horizon) read as far
+  std::string Validate() const;  // empty when valid
+};
+
+// What a column shows.
+enum class SonarReturn : std::uint8_t {
+  kBoundary,     // floor from the bottom row up to a step: something stands at range_m
+  kBlockedNear,  // no floor step below the horizon: the column is filled by something nearer
+                 // than the bottom row's floor range (the camera's near blind zone), range_m = 0
+  kFar,          // floor up to the horizon or beyond max_range_m: range_m = max_range_m
+  kUnknown,      // no step, but the bottom rows look like this frame's floor: a far boundary
+                 // without contrast, or something floor-like; no information (range_m = max)
+};
+
+struct SonarColumn {
+  double bearing_rad = 0.0;  // left positive, robot frame
+  double range_m = 0.0;      // from the robot's rotation centre (the camera foot) on the floor
+  SonarReturn kind = SonarReturn::kFar;
+  int boundary_row = -1;     // the lowest non-floor row when this column's own step gave the range, else -1
+};
+
+class VisualSonar {
+ public:
+  // `camera`: the model at the sonar frame's size (e.g. CameraModel::Scaled(64, 48)). Throws
+  // squint::Error when the camera or the options are invalid or the horizon is not in view.
+  explicit VisualSonar(const CameraModel& camera, const VisualSonarOptions& options = {});
+
+  // One frame of the camera's size; returns one entry per column (left to right). Allocates
+  // nothing after construction.
+  const std::vector<SonarColumn>& Process(GrayView image);
+
+  const CameraModel& Camera() const { return camera_; }
+  const VisualSonarOptions& Options() const { return options_; }
+  // Floor range of the bottom row's centre: nothing nearer is seen in one frame.
+  double NearBlindRangeM() const { return near_blind_m_; }
+  // Floor range and bearing of the boundary between rows v and v + 1 in column u.
+  double RangeAt(int u, int v) const { return range_[static_cast<std::size_t>(v * camera_.width + u)]; }
+
+ private:
+  CameraModel camera_;
+  VisualSonarOptions options_;
+  int top_row_ = 0;  // highest row searched (one above the horizon)
+  double near_blind_m_ = 0.0;
+  std::vector<double> range_;    // per (u, v): range of the floor point at row v + 0.5
+  std::vector<double> bearing_;  // per column
+  std::vector<float> profile_;   // one column, smoothed
+  std::vector<SonarColumn> out_;
+  std::vector<double> raw_;     // per column before the median
+  std::vector<int> rows_;
+  std::vector<double> window_;
+  std::vector<float> bottom_;      // per column: mean of the bottom rows
+  std::vector<float> ref_window_;
+  std::vector<std::uint8_t> unknown_;
+  int reference_floor_rows_ = 5;
+};
+
+}  // namespace squint::explore

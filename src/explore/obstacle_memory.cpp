@@ -1,0 +1,177 @@
+// Obstacle memory for the visual sonar: a toroidal grid of remembered floor-contact points in the
+// odometry frame, cleared along the rays where floor was seen, queried for free travel.
+#include "squint/explore/obstacle_memory.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "squint/core/error.hpp"
+
+namespace squint::explore {
+
+std::string ObstacleMemoryOptions::Validate() const {
+  if (!(cell_m > 0.0) || !std::isfinite(cell_m)) return "cell_m must be positive";
+  if (cells < 8 || cells > 1024) return "cells must be in [8, 1024]";
+  if (!(query_radius_m > 0.0) || !std::isfinite(query_radius_m)) return "query_radius_m must be positive";
+  if (cells * cell_m < 2.0 * query_radius_m + 2.0 * cell_m) return "cells * cell_m must exceed 2 * query_radius_m";
+  if (!(keep_seconds > 0.0) || !std::isfinite(keep_seconds)) return "keep_seconds must be positive";
+  if (!(clear_blind_min_range_m >= 0.0) || !std::isfinite(clear_blind_min_range_m)) return "clear_blind_min_range_m must be >= 0";
+  return {};
+}
+
+ObstacleMemory::ObstacleMemory(const ObstacleMemoryOptions& options) : options_(options) {
+  if (std::string e = options_.Validate(); !e.empty()) throw Error("obstacle memory: " + e);
+  cells_.assign(static_cast<std::size_t>(options_.cells * options_.cells), Cell{});
+  gathered_.reserve(cells_.size());
+}
+
+void ObstacleMemory::Clear() {
+  for (Cell& c : cells_) c.stamp_s = c.free_stamp_s = -1.0;
+  n_blocked_ = 0;
+  gathered_.clear();
+}
+
+ObstacleMemory::Cell& ObstacleMemory::At(const Eigen::Vector2d& p) {
+  const int n = options_.cells;
+  const int i = static_cast<int>(std::floor(p.x() / options_.cell_m));
+  const int j = static_cast<int>(std::floor(p.y() / options_.cell_m));
+  const int ii = ((i % n) + n) % n;
+  const int jj = ((j % n) + n) % n;
+  return cells_[static_cast<std::size_t>(jj * n + ii)];
+}
+
+void ObstacleMemory::Insert(const Eigen::Vector2d& p, double stamp_s) {
+  Cell& c = At(p);
+  c.p = p;
+  c.stamp_s = stamp_s;
+}
+
+void ObstacleMemory::ClearRay(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double seen_from_m,
+                              double stamp_s) {
+  const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
+  const double step = 0.5 * options_.cell_m;
+  for (double s = from_m; s < to_m; s += step) {
+    Cell& c = At(origin + s * d);
+    if (s >= seen_from_m) c.free_stamp_s = stamp_s;
+    if (c.stamp_s < 0.0) continue;
+    // Only points on this side of the boundary: the cell may hold a point slightly beyond.
+    const double along = (c.p - origin).dot(d);
+    if (along < to_m) c.stamp_s = -1.0;
+  }
+}
+
+bool ObstacleMemory::SeenFree(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double now_s) const {
+  const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
+  const double step = 0.5 * options_.cell_m;
+  for (double s = from_m; s < to_m; s += step) {
+    const Cell& c = At(origin + s * d);
+    if (c.free_stamp_s < 0.0 || now_s - c.free_stamp_s > options_.keep_seconds) return false;
+  }
+  return true;
+}
+
+void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& odom_T_robot, double stamp_s,
+                            double near_blind_m) {
+  const Eigen::Vector2d o = odom_T_robot.Translation();
+  const double clear_margin = 1.5 * options_.cell_m;
+  if (blocked_yaws_.size() < scan.size()) blocked_yaws_.resize(scan.size());
+  n_blocked_ = 0;
+  blocked_from_ = o;
+  blocked_range_m_ = near_blind_m;
+  blocked_stamp_s_ = stamp_s;
+  for (const SonarColumn& c : scan) {
+    const double yaw = odom_T_robot.yaw + c.bearing_rad;
+    const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
+    switch (c.kind) {
+      case SonarReturn::kBlockedNear:
+        // Something nearer than the blind range, at an unknown distance: not remembered (it
+        // would block later paths wherever it is put), but held as the latest scan's blockage.
+        blocked_yaws_[static_cast<std::size_t>(n_blocked_++)] = yaw;
+        break;
+      case SonarReturn::kBoundary: {
+        const double from = c.range_m >= options_.clear_blind_min_range_m ? 0.0 : near_blind_m;
+        ClearRay(o, yaw, from, c.range_m - clear_margin, near_blind_m, stamp_s);
+        Insert(o + c.range_m * d, stamp_s);
+        break;
+      }
+      case SonarReturn::kUnknown:
+        break;
+      case SonarReturn::kFar:
+        ClearRay(o, yaw, 0.0, std::min(c.range_m, options_.query_radius_m + options_.cell_m), near_blind_m, stamp_s);
+        break;
+    }
+  }
+}
+
+void ObstacleMemory::Gather(const Pose2& odom_T_robot, double stamp_s) {
+  gathered_.clear();
+  const double r = options_.query_radius_m;
+  const double r2 = r * r;
+  const Eigen::Vector2d o = odom_T_robot.Translation();
+  const int n = options_.cells;
+  const int i0 = static_cast<int>(std::floor((o.x() - r) / options_.cell_m));
+  const int i1 = static_cast<int>(std::floor((o.x() + r) / options_.cell_m));
+  const int j0 = static_cast<int>(std::floor((o.y() - r) / options_.cell_m));
+  const int j1 = static_cast<int>(std::floor((o.y() + r) / options_.cell_m));
+  for (int j = j0; j <= j1; ++j) {
+    const int jj = ((j % n) + n) % n;
+    for (int i = i0; i <= i1; ++i) {
+      Cell& c = cells_[static_cast<std::size_t>(jj * n + ((i % n) + n) % n)];
+      if (c.stamp_s < 0.0) continue;
+      if (stamp_s - c.stamp_s > options_.keep_seconds) {
+        c.stamp_s = -1.0;
+        continue;
+      }
+      if ((c.p - o).squaredNorm() <= r2) gathered_.push_back(c.p);
+    }
+  }
+}
+
+double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m,
+                                  bool use_blocked) const {
+  const Eigen::Vector2d o = odom_T_robot.Translation();
+  const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
+  const double r2 = radius_m * radius_m;
+  double free = max_m;
+  // The latest scan's columns blocked nearer than the blind range: a direction whose swept band
+  // meets one of them at the blind range has no free travel (from where that scan was taken).
+  const double half = std::atan2(radius_m, std::max(blocked_range_m_, radius_m));
+  for (int i = 0; i < n_blocked_; ++i) {
+    const double byaw = blocked_yaws_[static_cast<std::size_t>(i)];
+    const double dy = std::remainder(byaw - yaw, 2.0 * M_PI);
+    if (std::abs(dy) < half) {
+      if (!use_blocked && SeenFree(blocked_from_, byaw, radius_m, blocked_range_m_, blocked_stamp_s_)) continue;
+      free = std::min(free, std::max(0.0, (blocked_from_ - o).dot(d)));
+      break;
+    }
+  }
+  for (const Eigen::Vector2d& p : gathered_) {
+    const Eigen::Vector2d q = p - o;
+    const double s = q.dot(d);
+    const double l = d.x() * q.y() - d.y() * q.x();
+    if (l * l >= r2 || s < 0.0) continue;  // beside the swept band, or behind the centre
+    const double hit = s - std::sqrt(r2 - l * l);
+    free = std::min(free, std::max(0.0, hit));
+  }
+  return free;
+}
+
+void ObstacleMemory::SideDistances(const Pose2& odom_T_robot, double axis_yaw, double along_window_m,
+                                   double max_lateral_m, double* left_m, double* right_m) const {
+  const Eigen::Vector2d o = odom_T_robot.Translation();
+  const Eigen::Vector2d d(std::cos(axis_yaw), std::sin(axis_yaw));
+  double left = std::numeric_limits<double>::infinity(), right = left;
+  for (const Eigen::Vector2d& p : gathered_) {
+    const Eigen::Vector2d q = p - o;
+    const double s = q.dot(d);
+    if (std::abs(s) > along_window_m) continue;
+    const double l = d.x() * q.y() - d.y() * q.x();
+    if (l > 0.0 && l < max_lateral_m) left = std::min(left, l);
+    if (l < 0.0 && -l < max_lateral_m) right = std::min(right, -l);
+  }
+  *left_m = std::isfinite(left) ? left : -1.0;
+  *right_m = std::isfinite(right) ? right : -1.0;
+}
+
+}  // namespace squint::explore

@@ -1,0 +1,164 @@
+// Visual sonar: per-column floor-boundary rows of a small grey frame, turned into range per
+// bearing through the camera model's floor back-projection.
+#include "squint/explore/visual_sonar.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "squint/core/error.hpp"
+
+namespace squint::explore {
+
+std::string VisualSonarOptions::Validate() const {
+  if (step_window_rows < 1 || step_window_rows > 8) return "step_window_rows must be in [1, 8]";
+  if (!(step_threshold > 0.0) || !std::isfinite(step_threshold)) return "step_threshold must be positive";
+  if (min_floor_rows < 1 || min_floor_rows > 8) return "min_floor_rows must be in [1, 8]";
+  if (median_half_width < 0 || median_half_width > 8) return "median_half_width must be in [0, 8]";
+  if (column_half_width < 0 || column_half_width > 4) return "column_half_width must be in [0, 4]";
+  if (!(floor_memory >= 0.0 && floor_memory < 1.0)) return "floor_memory must be in [0, 1)";
+  if (!(floor_sigma_factor >= 0.0) || !std::isfinite(floor_sigma_factor)) return "floor_sigma_factor must be >= 0";
+  if (!(max_range_m > 0.0) || !std::isfinite(max_range_m)) return "max_range_m must be positive";
+  return {};
+}
+
+VisualSonar::VisualSonar(const CameraModel& camera, const VisualSonarOptions& options)
+    : camera_(camera), options_(options) {
+  if (std::string e = camera_.Validate(); !e.empty()) throw Error("visual sonar: camera: " + e);
+  if (std::string e = options_.Validate(); !e.empty()) throw Error("visual sonar: " + e);
+  const int w = camera_.width;
+  const int h = camera_.height;
+  const double horizon = camera_.HorizonRow();
+  if (!(horizon > 0.0 && horizon < h - 2)) throw Error("visual sonar: the horizon is not inside the frame (check the camera pitch)");
+  top_row_ = std::max(0, static_cast<int>(std::floor(horizon)) - 1);
+  range_.assign(static_cast<std::size_t>(w * h), std::numeric_limits<double>::infinity());
+  bearing_.assign(static_cast<std::size_t>(w), 0.0);
+  for (int u = 0; u < w; ++u) {
+    bearing_[static_cast<std::size_t>(u)] = camera_.BearingOfColumn(u);
+    for (int v = 0; v < h; ++v) {
+      // The boundary between rows v and v + 1 (the last row's lower edge for v = h - 1).
+      const double row = std::min(v + 0.5, h - 0.5);
+      if (const auto fp = camera_.FloorPoint({static_cast<double>(u), row}))
+        range_[static_cast<std::size_t>(v * w + u)] = fp->norm();
+    }
+  }
+  near_blind_m_ = range_[static_cast<std::size_t>((h - 1) * w + w / 2)];
+  profile_.assign(static_cast<std::size_t>(h), 0.0f);
+  out_.assign(static_cast<std::size_t>(w), SonarColumn{});
+  raw_.assign(static_cast<std::size_t>(w), 0.0);
+  rows_.assign(static_cast<std::size_t>(w), -1);
+  window_.assign(static_cast<std::size_t>(2 * options_.median_half_width + 1), 0.0);
+  bottom_.assign(static_cast<std::size_t>(w), 0.0f);
+  ref_window_.assign(static_cast<std::size_t>(w), 0.0f);
+  unknown_.assign(static_cast<std::size_t>(w), 0);
+  reference_floor_rows_ = options_.min_floor_rows + 3;
+}
+
+const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
+  const int w = camera_.width;
+  const int h = camera_.height;
+  SQUINT_ENSURE(!image.Empty() && image.width == w && image.height == h,
+                "visual sonar: the frame must be " + std::to_string(w) + "x" + std::to_string(h));
+  const int k = options_.step_window_rows;
+  const float thr = static_cast<float>(options_.step_threshold);
+  for (int u = 0; u < w; ++u) {
+    const int u0 = std::max(0, u - options_.column_half_width);
+    const int u1 = std::min(w - 1, u + options_.column_half_width);
+    const float norm = 1.0f / static_cast<float>(u1 - u0 + 1);
+    for (int v = top_row_ - k < 0 ? 0 : top_row_ - k; v < h; ++v) {
+      const std::uint8_t* row = image.Row(v);
+      int s = 0;
+      for (int x = u0; x <= u1; ++x) s += row[x];
+      profile_[static_cast<std::size_t>(v)] = static_cast<float>(s) * norm;
+    }
+    // Scan up from the bottom. The floor seen so far keeps a running mean and spread (rows
+    // weighted toward the candidate, since the floor's shading changes with distance); row v is
+    // the lowest non-floor row when the mean of the k rows from v upward differs from both the
+    // k rows just below it and the running floor mean by more than the threshold, raised by
+    // the floor's own texture spread (busy tiles).
+    int found = -1;
+    float fmean = profile_[static_cast<std::size_t>(h - 1)];
+    float fvar = 0.0f;
+    const float a = static_cast<float>(options_.floor_memory);
+    const float sig = static_cast<float>(options_.floor_sigma_factor);
+    for (int v = h - 2; v >= top_row_; --v) {
+      float below = 0.0f, above = 0.0f;
+      int nb = 0, na = 0;
+      for (int i = 1; i <= k && v + i < h; ++i, ++nb) below += profile_[static_cast<std::size_t>(v + i)];
+      for (int i = 0; i < k && v - i >= 0; ++i, ++na) above += profile_[static_cast<std::size_t>(v - i)];
+      below /= static_cast<float>(nb);
+      above /= static_cast<float>(na);
+      const float t = std::max(thr, sig * std::sqrt(fvar));
+      if (std::abs(below - above) > thr && std::abs(above - fmean) > t) {
+        found = v;
+        break;
+      }
+      const float x = profile_[static_cast<std::size_t>(v)];
+      const float d = x - fmean;
+      fmean += (1.0f - a) * d;
+      fvar = a * (fvar + (1.0f - a) * d * d);
+    }
+    // Raw range: 0 for a column blocked near, max_range_m for far.
+    if (found >= 0 && h - 1 - found < options_.min_floor_rows) found = -1;  // too few floor rows: no step
+    double r = 0.0;
+    if (found >= 0) {
+      r = range_[static_cast<std::size_t>(found * w + u)];
+      if (!std::isfinite(r) || r > options_.max_range_m) r = options_.max_range_m;
+    }
+    raw_[static_cast<std::size_t>(u)] = r;
+    rows_[static_cast<std::size_t>(u)] = found;
+    // Mean of the bottom rows: the floor's look in columns with a clear boundary, the reference
+    // for columns without any step.
+    float bottom = 0.0f;
+    for (int i = 0; i < options_.min_floor_rows + 1; ++i) bottom += profile_[static_cast<std::size_t>(h - 1 - i)];
+    bottom_[static_cast<std::size_t>(u)] = bottom / static_cast<float>(options_.min_floor_rows + 1);
+  }
+  // A column without any step is either filled by something near (a wall in the blind zone) or a
+  // floor whose far boundary has too little contrast. Its bottom rows decide: unlike the floor
+  // of this frame's columns with a clear boundary -> blocked near; like it -> unknown (no
+  // information). Without such a reference (a wall fills the whole view) -> blocked near.
+  int n_ref = 0;
+  for (int u = 0; u < w; ++u) {
+    const int found = rows_[static_cast<std::size_t>(u)];
+    if (found >= 0 && h - 1 - found >= reference_floor_rows_) ref_window_[static_cast<std::size_t>(n_ref++)] = bottom_[static_cast<std::size_t>(u)];
+  }
+  float floor_ref = -1.0f;
+  if (n_ref >= 3) {
+    std::nth_element(ref_window_.begin(), ref_window_.begin() + n_ref / 2, ref_window_.begin() + n_ref);
+    floor_ref = ref_window_[static_cast<std::size_t>(n_ref / 2)];
+  }
+  for (int u = 0; u < w; ++u) {
+    unknown_[static_cast<std::size_t>(u)] = 0;
+    if (rows_[static_cast<std::size_t>(u)] >= 0 || floor_ref < 0.0f) continue;
+    if (std::abs(bottom_[static_cast<std::size_t>(u)] - floor_ref) <= thr) {
+      unknown_[static_cast<std::size_t>(u)] = 1;
+      raw_[static_cast<std::size_t>(u)] = options_.max_range_m;
+    }
+  }
+  // Median across neighbouring columns: anything standing that matters spans several columns,
+  // while a texture step or a missed far step is usually one or two columns wide.
+  const int m = options_.median_half_width;
+  for (int u = 0; u < w; ++u) {
+    const int u0 = std::max(0, u - m);
+    const int u1 = std::min(w - 1, u + m);
+    int n = 0;
+    for (int x = u0; x <= u1; ++x) window_[static_cast<std::size_t>(n++)] = raw_[static_cast<std::size_t>(x)];
+    std::nth_element(window_.begin(), window_.begin() + n / 2, window_.begin() + n);
+    const double r = window_[static_cast<std::size_t>(n / 2)];
+    SonarColumn& c = out_[static_cast<std::size_t>(u)];
+    c.bearing_rad = bearing_[static_cast<std::size_t>(u)];
+    c.range_m = r;
+    c.boundary_row = -1;
+    if (r <= 0.0) {
+      c.kind = SonarReturn::kBlockedNear;
+    } else if (r >= options_.max_range_m) {
+      c.kind = unknown_[static_cast<std::size_t>(u)] ? SonarReturn::kUnknown : SonarReturn::kFar;
+    } else {
+      c.kind = SonarReturn::kBoundary;
+      if (raw_[static_cast<std::size_t>(u)] == r) c.boundary_row = rows_[static_cast<std::size_t>(u)];
+    }
+  }
+  return out_;
+}
+
+}  // namespace squint::explore
