@@ -50,6 +50,10 @@ void BM_GlanceFull(benchmark::State& state) {
   CorridorOptions options;
   options.gate.enabled = false;
   options.distance.speed_mps = 0.4;
+  // All eight measures run: cues whose default weight is 0 (entropy) are not computed by default,
+  // so they get a weight here.
+  for (HeadingCueOptions& cue : options.heading.cues)
+    if (cue.weight <= 0.0) cue.weight = 1.0;
   Perceiver perceiver(options, Camera());
   const auto a = SyntheticFrame(0), b = SyntheticFrame(2);
   Glance ga, gb;
