@@ -146,7 +146,7 @@ void OutlineTracer::TraceBase(const cv::Mat& base_edges, const cv::Mat& gray, Ou
   trace->base_first = static_cast<int>(base_.size());
   const int w = base_edges.cols, h = base_edges.rows;
   // Grey step across a base pixel: below minus above (a dark obstacle on a light floor is positive).
-  auto step = [&](int u, int v) { return ColumnMean(gray, u, v, 2, 4) - ColumnMean(gray, u, v, -4, -2); };
+  auto step = [&](int u, int v) { return ColumnMean(gray, u, v, 3, 6) - ColumnMean(gray, u, v, -6, -3); };
   // The base pixel in column u nearest row v (0, -1, +1, -2, +2, ... up to `rise`) that is not
   // yet traced and steps with `sign` (any sign when 0); none at a traced base or (unless
   // at_ground_ok: the corner of a trace that stopped on the floor) a ground feature.
@@ -170,14 +170,29 @@ void OutlineTracer::TraceBase(const cv::Mat& base_edges, const cv::Mat& gray, Ou
     base_.emplace_back(u, v);
     pixels_.emplace_back(u, v);
   };
-  // The corner: the base pixel at or next to the contact.
+  // The corner: the base pixel at or next to the contact. A trace may overshoot the base by a few
+  // rows (a reflection or shadow edge continuing below the corner), so look up to kCornerRows
+  // above it, and a little below, in the contact's column and two on either side (the vertical
+  // edge band is a few pixels wide).
+  constexpr int kCornerRows = 4;
   const Eigen::Vector2i c = trace->contact_px;
-  const auto corner = next(c.x(), c.y(), std::max(2, options_.base_max_rise_px), 0, true);
+  std::optional<std::pair<int, int>> corner;
+  int corner_u = c.x();
+  for (const int du : {0, -1, 1, -2, 2}) {
+    for (const int dv : {0, -1, 1, -2, 2, -3, -kCornerRows}) {
+      corner = next(c.x() + du, c.y() + dv, 0, 0, true);
+      if (corner) break;
+    }
+    if (corner) {
+      corner_u = c.x() + du;
+      break;
+    }
+  }
   if (corner) {
-    add(c.x(), corner->first);
+    add(corner_u, corner->first);
     const int sign = corner->second;
     for (const int dir : {-1, 1}) {
-      int u = c.x(), v = corner->first;
+      int u = corner_u, v = corner->first;
       while (const auto n = next(u + dir, v, options_.base_max_rise_px, sign, false)) {
         u += dir;
         v = n->first;

@@ -39,10 +39,15 @@ TEST(AvoidTest, BoxAheadIsAvoided) {
   const Box box{1.3, 1.6, 0.1, 0.5, 0.3};
   Avoider avoider(cam);
   const AvoidResult& r = avoider.Process(RenderBoxes(cam, {box}), BoxFeatures(cam, box));
-  ASSERT_EQ(r.contacts.size(), 2u);
-  int occupied = 0;
-  for (const PolarSector& s : r.map->sectors) occupied += s.state == SectorState::kOccupied;
-  EXPECT_EQ(occupied, 2);
+  ASSERT_EQ(r.traces->size(), 2u) << "one outline per vertical edge";
+  ASSERT_GT(r.contacts.size(), 20u) << "and the base between them";
+  // The sectors across the box's front (4.4° to 21.0°) are occupied, those clear of it are not.
+  for (const PolarSector& s : r.map->sectors) {
+    if (s.end_deg > 4.4 + 0.5 && s.start_deg < 21.0 - 0.5)
+      EXPECT_EQ(s.state, SectorState::kOccupied) << s.centre_deg;
+    else if (s.end_deg < 4.4 - 1.0 || s.start_deg > 21.0 + 1.0)
+      EXPECT_NE(s.state, SectorState::kOccupied) << s.centre_deg;
+  }
   ASSERT_FALSE(r.decision.stop);
   // The steering ray passes both true corners with at least the robot's half width plus margin.
   const double half = avoider.Options().gap.robot_radius_m + avoider.Options().gap.margin_m;
@@ -53,6 +58,19 @@ TEST(AvoidTest, BoxAheadIsAvoided) {
   const double first = *r.decision.steer_deg;
   const AvoidResult& again = avoider.Process(RenderBoxes(cam, {box}), BoxFeatures(cam, box));
   EXPECT_DOUBLE_EQ(*again.decision.steer_deg, first);
+}
+
+TEST(AvoidTest, WithoutBaseTracingOnlyTheCornersAreOccupied) {
+  const CameraModel cam = ObstacleCamera();
+  const Box box{1.3, 1.6, 0.1, 0.5, 0.3};
+  AvoidOptions o;
+  o.outline.base_trace = false;
+  Avoider avoider(cam, o);
+  const AvoidResult& r = avoider.Process(RenderBoxes(cam, {box}), BoxFeatures(cam, box));
+  ASSERT_EQ(r.contacts.size(), 2u);  // the paper's map: the two front corners
+  int occupied = 0;
+  for (const PolarSector& s : r.map->sectors) occupied += s.state == SectorState::kOccupied;
+  EXPECT_EQ(occupied, 2);
 }
 
 TEST(AvoidTest, EmptyFloorSteersStraight) {

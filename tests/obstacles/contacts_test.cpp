@@ -132,5 +132,71 @@ TEST(ContactsTest, FeatureFarFromEdgesFindsNothing) {
   EXPECT_TRUE(Contacts(cam, img, f).empty());
 }
 
+// Contacts with base tracing: the vertical trace, then the base followed sideways.
+std::vector<ContactPoint> BaseContacts(const CameraModel& cam, const cv::Mat& img,
+                                       const std::vector<ClassifiedFeature>& features, OutlineOptions oo = {}) {
+  EdgeMapper edges;
+  OutlineTracer tracer(oo);
+  const cv::Mat& e = edges.Compute(img);
+  tracer.Trace(e, edges.BaseEdges(), img, features);
+  std::vector<ContactPoint> out;
+  for (const Eigen::Vector2i& p : tracer.BaseContacts())
+    if (auto c = ContactFromPixel(cam, p.cast<double>())) out.push_back(*c);
+  return out;
+}
+
+TEST(ContactsTest, BaseTraceCoversTheWholeFrontOfABox) {
+  const CameraModel cam = ObstacleCamera();
+  const Box box{1.0, 1.3, -0.2, 0.15, 0.3};
+  const cv::Mat img = RenderBoxes(cam, {box});
+  // One obstacle feature, on the left vertical edge only.
+  const std::vector<ClassifiedFeature> f = {Feature(cam, {1.0, 0.15, 0.15}, FeatureClass::kObstacle)};
+  const auto contacts = BaseContacts(cam, img, f);
+  ASSERT_GT(contacts.size(), 20u);
+  double lo = 90, hi = -90;
+  for (const ContactPoint& c : contacts) {
+    // Every base contact lies on the box's front face line x = 1.0 (within 1.5 rows).
+    const Expected e = Analytic(cam, 1.0, c.floor_m.y());
+    EXPECT_NEAR(c.floor_m.x(), 1.0, e.range_tol_m) << c.pixel.transpose();
+    lo = std::min(lo, c.bearing_deg);
+    hi = std::max(hi, c.bearing_deg);
+  }
+  // ... and they span the front from one corner to the other (within a degree).
+  EXPECT_NEAR(hi, RadToDeg(std::atan2(0.15, 1.0)), 1.0);
+  EXPECT_NEAR(lo, RadToDeg(std::atan2(-0.2, 1.0)), 1.0);
+  // Off: the paper's contacts only.
+  OutlineOptions off;
+  off.base_trace = false;
+  EXPECT_TRUE(BaseContacts(cam, img, f, off).empty());
+}
+
+TEST(ContactsTest, BaseTraceStopsAtAGroundFeature) {
+  const CameraModel cam = ObstacleCamera();
+  const Box box{1.0, 1.3, -0.2, 0.15, 0.3};
+  const cv::Mat img = RenderBoxes(cam, {box});
+  // A ground feature on the base, at y = 0: the trace from the left corner stops before it.
+  const std::vector<ClassifiedFeature> f = {Feature(cam, {1.0, 0.15, 0.15}, FeatureClass::kObstacle),
+                                            Feature(cam, {1.0, 0.0, 0.0}, FeatureClass::kGround)};
+  const auto contacts = BaseContacts(cam, img, f);
+  ASSERT_FALSE(contacts.empty());
+  for (const ContactPoint& c : contacts) EXPECT_GT(c.floor_m.y(), -0.01) << c.pixel.transpose();
+}
+
+TEST(ContactsTest, BaseTraceDoesNotFollowAThinFloorLine) {
+  const CameraModel cam = ObstacleCamera();
+  const Box box{1.0, 1.3, -0.2, 0.15, 0.3};
+  cv::Mat img = RenderBoxes(cam, {box});
+  // A dark 2-px line painted on the floor, continuing the box's base to the left edge of the image.
+  const Eigen::Vector2d corner = *cam.Project(Eigen::Vector3d(1.0, 0.15, 0.0));
+  const int row = static_cast<int>(std::lround(corner.y()));
+  cv::Mat line = img.rowRange(row, row + 2).colRange(0, static_cast<int>(corner.x()) - 1);
+  line.setTo(40);
+  const std::vector<ClassifiedFeature> f = {Feature(cam, {1.0, 0.15, 0.15}, FeatureClass::kObstacle)};
+  const auto contacts = BaseContacts(cam, img, f);
+  ASSERT_GT(contacts.size(), 20u);
+  for (const ContactPoint& c : contacts)
+    EXPECT_LT(c.bearing_deg, RadToDeg(std::atan2(0.15, 1.0)) + 1.0) << "followed the floor line at " << c.pixel.transpose();
+}
+
 }  // namespace
 }  // namespace squint::obstacles

@@ -70,6 +70,28 @@ TEST(EdgeMapTest, HorizontalEdgesAreIgnored) {
   EXPECT_EQ(cv::countNonZero(m.Compute(img)), 0);
 }
 
+TEST(EdgeMapTest, BaseEdgesFindHorizontalEdgesOnly) {
+  // A horizontal step (rows 24+ brighter): a base edge along rows 23/24, no vertical edge.
+  cv::Mat img(48, 64, CV_8U, cv::Scalar(100));
+  img.rowRange(24, 48).setTo(180);
+  EdgeMapper m;
+  EXPECT_EQ(cv::countNonZero(m.Compute(img)), 0);
+  const cv::Mat& base = m.BaseEdges();
+  ASSERT_EQ(base.size(), img.size());
+  for (int u = 0; u < 64; ++u) EXPECT_EQ(base.at<std::uint8_t>(23, u) | base.at<std::uint8_t>(24, u), 255) << u;
+  EXPECT_EQ(cv::countNonZero(base.rowRange(0, 21)), 0);
+  EXPECT_EQ(cv::countNonZero(base.rowRange(27, 48)), 0);
+  // A vertical step gives no base edge.
+  m.Compute(Step(80));
+  EXPECT_EQ(cv::countNonZero(m.BaseEdges()), 0);
+  // Off: no base-edge map at all.
+  EdgeMapOptions o;
+  o.base_edges = false;
+  EdgeMapper off(o);
+  off.Compute(img);
+  EXPECT_TRUE(off.BaseEdges().empty());
+}
+
 TEST(EdgeMapTest, InvalidOptionsAreNamed) {
   EdgeMapOptions o;
   o.high_threshold = 10;

@@ -28,7 +28,7 @@ struct OutlineOptions {
   int max_gap_rows = 0;
   // Beyond the paper: follow the base from each contact along the horizontal-edge map (left and
   // right, one column per step, up to base_max_rise_px rows up or down), while the grey level
-  // steps across it by at least base_min_step (mean of the rows 2-4 above against 2-4 below, with
+  // steps across it by at least base_min_step (mean of the rows 3-6 above against 3-6 below, with
   // one sign all along: a base, not a thin floor line) and until a ground feature.
   bool base_trace = true;
   int base_max_rise_px = 1;
