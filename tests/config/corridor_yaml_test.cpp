@@ -25,6 +25,11 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   o.heading.agreement_deg = 7.25;
   o.heading.min_consensus_cues = 3;
   o.heading.max_abs_heading_deg = 33.0;
+  o.heading.fuse_curves = false;
+  o.heading.symmetry_significance = false;
+  o.heading.phase_line_vote = false;
+  o.heading.phase_min_vertical_deg = 12.5;
+  o.heading.phase_min_horizon_rows = 3.5;
   o.distance.weights = {3.0, 0.5, 0.25};
   o.distance.enabled[1] = false;
   o.distance.alpha2 = 123.5;
@@ -46,6 +51,11 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   EXPECT_FALSE(back.heading.cues[2].enabled);
   EXPECT_EQ(back.heading.slice_width_px, 5);
   EXPECT_EQ(back.heading.min_consensus_cues, 3);
+  EXPECT_FALSE(back.heading.fuse_curves);
+  EXPECT_FALSE(back.heading.symmetry_significance);
+  EXPECT_FALSE(back.heading.phase_line_vote);
+  EXPECT_EQ(back.heading.phase_min_vertical_deg, 12.5);
+  EXPECT_EQ(back.heading.phase_min_horizon_rows, 3.5);
   EXPECT_EQ(back.distance.weights, o.distance.weights);
   EXPECT_EQ(back.distance.enabled, o.distance.enabled);
   EXPECT_EQ(back.distance.alpha2, 123.5);
