@@ -4,6 +4,11 @@
 // then intersects that wall (and its neighbour's) analytically, so the geometry stays exact.
 // Obstacles are listed per bearing bin; floor and ceiling are planes. Lighting is precomputed
 // into light maps (floor grid, per-wall tables) from the ceiling lights with 2-D visibility.
+// With n >= 3 samples per pixel side, sampling is adaptive (RenderOptions::adaptive): the pixel
+// corners are traced first and a per-frame mask marks the pixels that wall edges, light panels,
+// decals and flat items may cross (their outlines projected into the image); a pixel whose
+// corners see one region of one plane is shaded once (box-filtered texture, summed-area
+// tables), other pixels shade their samples on the planes met without a full trace.
 #include "squint/sim/renderer.hpp"
 
 #include <fmt/format.h>

@@ -212,6 +212,27 @@ TEST(Renderer, AdaptiveSupersamplingStaysCloseToFullSupersampling) {
   EXPECT_LE(total, total_ref);
 }
 
+TEST(Renderer, AdaptiveSupersamplingIsDeterministicAndKeepsExactRanges) {
+  const World w = LoadWorld("default");
+  RenderOptions o;
+  o.supersample = 4;
+  o.noise_sigma = 2.0;
+  const CameraModel cam = w.camera.Model().Scaled(32, 24);
+  Renderer a(w, cam, o), b(w, cam, o);
+  o.adaptive = false;
+  Renderer full(w, cam, o);
+  const Pose2 pose{19.5, -0.3, -0.3};
+  cv::Mat la, ra, lf, rf;
+  const cv::Mat ia = a.Render(pose, &la, &ra, 7);
+  a.Render({9.0, 0.4, 0.2}, nullptr, nullptr, 8);  // state from another frame must not leak
+  EXPECT_EQ(cv::norm(ia, a.Render(pose, nullptr, nullptr, 7), cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(ia, b.Render(pose, nullptr, nullptr, 7), cv::NORM_INF), 0.0);
+  // Labels and ranges come from the same traced central rays either way.
+  full.Render(pose, &lf, &rf, 7);
+  EXPECT_EQ(cv::norm(la, lf, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(ra, rf, cv::NORM_INF), 0.0);
+}
+
 TEST(Renderer, BadOptionsAreRejected) {
   const World w = Hall();
   RenderOptions o;
