@@ -211,14 +211,16 @@ void Run(const EvalObstaclesOptions& cli) {
   {
     // Every tracked feature with its truth, for further analysis.
     std::ostringstream csv;
-    csv << "sequence,frame,u,v,zone,discrepancy_m,signed_discrepancy_m,obstacle\n";
+    csv << "sequence,frame,u,v,zone,discrepancy_m,signed_discrepancy_m,obstacle,previous_u,previous_v,"
+           "motion_epipolar_px\n";
     for (const auto& seq : samples)
       for (const auto& s : seq.samples) {
         csv << seq.name << ',' << s.frame << ',' << fmt::format("{:.2f},{:.2f},{}", s.u, s.v, s.zone) << ',';
         if (s.discrepancy_m) csv << fmt::format("{:.5f}", *s.discrepancy_m);
         csv << ',';
         if (s.signed_discrepancy_m) csv << fmt::format("{:.5f}", *s.signed_discrepancy_m);
-        csv << ',' << (s.obstacle ? 1 : 0) << '\n';
+        csv << ',' << (s.obstacle ? 1 : 0)
+            << fmt::format(",{:.2f},{:.2f},{:.3f}\n", s.previous_u, s.previous_v, s.motion_epipolar_px);
       }
     io::WriteFileAtomically(out.Path() / "samples.csv", csv.str());
   }

@@ -39,6 +39,7 @@ SequenceSamples CollectObstacleSamples(const std::filesystem::path& path, const 
         const int u = std::clamp(static_cast<int>(std::lround(f.pixel.x())), 0, label.cols - 1);
         const int v = std::clamp(static_cast<int>(std::lround(f.pixel.y())), 0, label.rows - 1);
         out.samples.push_back({i, f.pixel.x(), f.pixel.y(), f.zone, f.discrepancy_m, f.signed_discrepancy_m,
+                               f.previous_pixel.x(), f.previous_pixel.y(), f.motion_epipolar_px,
                                label.at<unsigned char>(v, u) != 0});
       }
     }

@@ -171,6 +171,8 @@ void IptPipeline::Process(const cv::Mat& previous_image, const cv::Mat& current_
     MeasuredFeature f;
     f.pixel = {m.matches[i].current.x, m.matches[i].current.y};
     f.previous_pixel = {m.matches[i].previous.x, m.matches[i].previous.y};
+    f.motion_epipolar_px =
+        MotionEpipolarErrorPx(m.camera, *previous_odom, f.previous_pixel, *current_odom, f.pixel).value_or(0.0);
     if (AboveHorizon(m.camera, f.pixel)) {
       f.zone = kHorizonZone;
     } else {

@@ -72,6 +72,44 @@ TEST_P(IptGeometryTest, FloorPointHasZeroDiscrepancyAndElevatedPointTheAnalyticO
   }
 }
 
+// The odometry epipolar residual: 0 for every static point (floor, elevated, mirror image below the
+// floor), and for a point displaced along the image's vertical by δ px off the epipolar line, about δ
+// times the sine of the angle between the epipolar line and the vertical.
+TEST_P(IptGeometryTest, MotionEpipolarErrorIsZeroForStaticPointsAndGrowsOffTheEpipolarLine) {
+  const CameraModel cam = PaperCamera();
+  const auto [a, b] = GetParam();
+  for (const Eigen::Vector3d base : {Eigen::Vector3d(1.5, 0.2, 0.0), Eigen::Vector3d(2.5, -0.4, 0.0)}) {
+    const Eigen::Vector2d ahead = a.Apply(base.head<2>());
+    for (double z : {0.0, 0.2, 0.35, -0.3}) {
+      const Eigen::Vector3d p(ahead.x(), ahead.y(), z);
+      const auto e = MotionEpipolarErrorPx(cam, a, See(cam, a, p), b, See(cam, b, p));
+      ASSERT_TRUE(e.has_value());
+      EXPECT_NEAR(*e, 0.0, 1e-6) << "z " << z;
+    }
+    // Move the later pixel perpendicular to its epipolar line by 1.5 px: the epipolar line through
+    // the true later pixel is the image of the earlier ray; its direction is found from two points.
+    const Eigen::Vector3d p(ahead.x(), ahead.y(), 0.1);
+    const Eigen::Vector2d pa = See(cam, a, p), pb = See(cam, b, p);
+    const Eigen::Vector3d far_point = [&] {  // another point on the earlier pixel's ray, 3× farther
+      const Eigen::Vector3d ray = cam.PixelRayRobot(pa);
+      const double t = (p - Eigen::Vector3d(a.x, a.y, cam.height_m)).norm() * 3.0;
+      const Eigen::Vector2d xy = a.Apply((cam.RobotCameraCentre() + t * ray).head<2>());
+      return Eigen::Vector3d(xy.x(), xy.y(), cam.height_m + t * ray.z());
+    }();
+    const Eigen::Vector2d along = (See(cam, b, far_point) - pb).normalized();
+    const Eigen::Vector2d normal(-along.y(), along.x());
+    const auto e = MotionEpipolarErrorPx(cam, a, pa, b, pb + 1.5 * normal);
+    ASSERT_TRUE(e.has_value());
+    EXPECT_NEAR(*e, 1.5, 0.1);  // pixel distance ≈ angle × f near the image centre
+    // Sliding along the epipolar line keeps it on the line (any depth is a static point).
+    const auto e_along = MotionEpipolarErrorPx(cam, a, pa, b, pb + 3.0 * along);
+    ASSERT_TRUE(e_along.has_value());
+    EXPECT_NEAR(*e_along, 0.0, 1e-3);
+  }
+  // No motion of the camera centre: undefined.
+  EXPECT_FALSE(MotionEpipolarErrorPx(cam, a, {100, 150}, a, {100, 150}).has_value());
+}
+
 INSTANTIATE_TEST_SUITE_P(Motions, IptGeometryTest,
                          ::testing::Values(Motion{{0, 0, 0}, {0.031, 0, 0}},                // the paper's step
                                            Motion{{1.0, -2.0, 0.7}, {1.0 + 0.05 * std::cos(0.7),

@@ -23,6 +23,8 @@ struct ObstacleSample {
   int zone = 0;                         // 0–3
   std::optional<double> discrepancy_m;  // none above the horizon
   std::optional<double> signed_discrepancy_m;
+  double previous_u = 0.0, previous_v = 0.0;  // the match in the earlier frame
+  double motion_epipolar_px = 0.0;            // MeasuredFeature::motion_epipolar_px
   bool obstacle = false;                // label mask at (u, v) is not floor
 };
 

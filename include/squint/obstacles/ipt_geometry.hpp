@@ -32,6 +32,16 @@ std::optional<double> SignedDiscrepancy(const CameraModel& camera, const Pose2& 
                                         const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
                                         const Eigen::Vector2d& current_pixel);
 
+// Epipolar residual of a correspondence under the motion known from odometry (paper §3.3's epipolar
+// constraint, with F fixed by the poses and the camera mount instead of estimated): every static
+// scene point — on the floor, above it, or a mirror image below it — has its two viewing rays in one
+// plane with the baseline. Returns the larger of the two ray-to-epipolar-plane angles, in pixels
+// (angle × fx). A mismatch, or a point that moved, leaves the plane. 0 for rays along the baseline
+// (the epipole, where the plane is undefined). None when the camera centre did not move.
+std::optional<double> MotionEpipolarErrorPx(const CameraModel& camera, const Pose2& world_T_previous,
+                                            const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
+                                            const Eigen::Vector2d& current_pixel);
+
 // Eq. 10 generalised: true when the pixel's ray does not point below the horizon (λ would be
 // negative), so the feature is an obstacle without D. The ray is undistorted by the camera model.
 bool AboveHorizon(const CameraModel& camera, const Eigen::Vector2d& pixel);

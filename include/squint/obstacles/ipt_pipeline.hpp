@@ -46,6 +46,7 @@ struct MeasuredFeature {
   std::optional<double> discrepancy_m;  // none in zone 3
   std::optional<double> signed_discrepancy_m;  // SignedDiscrepancy(); none in zone 3
   std::optional<FeatureClass> cls;      // none when left unclassified by the refinement
+  double motion_epipolar_px = 0.0;      // MotionEpipolarErrorPx() under the odometry motion
 };
 
 struct PairResult {

@@ -1,0 +1,117 @@
+// Descriptor matching of the feature trackers against OpenCV's reference (BFMatcher knnMatch with
+// k = 2, ratio test, mutual best match), on a textured image and a zoomed copy of it.
+#include "squint/obstacles/feature_tracker.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <tuple>
+
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace squint::obstacles {
+namespace {
+
+cv::Mat TexturedImage() {
+  cv::Mat small(48, 64, CV_8U);
+  cv::RNG rng(3);
+  rng.fill(small, cv::RNG::UNIFORM, 0, 256);
+  cv::Mat image;
+  cv::resize(small, image, cv::Size(256, 192), 0, 0, cv::INTER_CUBIC);
+  return image;
+}
+
+// The later frame: the earlier one zoomed by 3% about a point below the centre (forward motion).
+cv::Mat Zoomed(const cv::Mat& image) {
+  const cv::Mat m = cv::getRotationMatrix2D(cv::Point2f(128.f, 120.f), 0.0, 1.03);
+  cv::Mat out;
+  cv::warpAffine(image, out, m, image.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+  return out;
+}
+
+using PointPair = std::tuple<float, float, float, float>;
+
+std::vector<PointPair> Reference(const cv::Ptr<cv::Feature2D>& feature, int norm, const cv::Mat& a, const cv::Mat& b,
+                                 const FeatureOptions& o) {
+  std::vector<cv::KeyPoint> ka, kb;
+  cv::Mat da, db;
+  feature->detectAndCompute(a, cv::noArray(), ka, da);
+  feature->detectAndCompute(b, cv::noArray(), kb, db);
+  cv::BFMatcher matcher(norm);
+  std::vector<std::vector<cv::DMatch>> knn;
+  std::vector<cv::DMatch> back;
+  matcher.knnMatch(db, da, knn, 2);
+  matcher.match(da, db, back);
+  std::vector<PointPair> out;
+  for (const auto& pair : knn) {
+    if (pair.size() < 2 || !(pair[0].distance < o.ratio * pair[1].distance)) continue;
+    if (back[static_cast<std::size_t>(pair[0].trainIdx)].trainIdx != pair[0].queryIdx) continue;
+    const cv::Point2f p = ka[static_cast<std::size_t>(pair[0].trainIdx)].pt;
+    const cv::Point2f c = kb[static_cast<std::size_t>(pair[0].queryIdx)].pt;
+    if (cv::norm(p - c) > o.max_displacement_px) continue;
+    out.emplace_back(p.x, p.y, c.x, c.y);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(FeatureTracker, DescriptorMatchesEqualOpenCvReferenceMatching) {
+  const cv::Mat a = TexturedImage(), b = Zoomed(a);
+  FeatureOptions o;
+  struct Case {
+    Detector detector;
+    cv::Ptr<cv::Feature2D> feature;
+    int norm;
+  };
+  auto akaze = cv::AKAZE::create();
+  akaze->setThreshold(o.akaze_threshold);
+  const Case cases[] = {
+      {Detector::kSift, cv::SIFT::create(o.max_features, o.sift_octave_layers, o.sift_contrast_threshold), cv::NORM_L2},
+      {Detector::kOrb,
+       cv::ORB::create(o.max_features, 1.2f, o.orb_levels, 15, 0, 2, cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold),
+       cv::NORM_HAMMING},
+      {Detector::kAkaze, akaze, cv::NORM_HAMMING},  // 61-byte descriptors: not a multiple of 8
+  };
+  for (const Case& c : cases) {
+    o.detector = c.detector;
+    const auto tracker = MakeFeatureTracker(o);
+    std::vector<Match> matches;
+    tracker->Track(a, b, &matches);
+    std::vector<PointPair> got;
+    for (const Match& m : matches) got.emplace_back(m.previous.x, m.previous.y, m.current.x, m.current.y);
+    std::sort(got.begin(), got.end());
+    const auto want = Reference(c.feature, c.norm, a, b, o);
+    EXPECT_GE(want.size(), 20u) << DetectorName(c.detector);
+    EXPECT_EQ(got, want) << DetectorName(c.detector);
+    // The matches follow the zoom: current ≈ centre + 1.03 (previous − centre) within 1.5 px for most.
+    std::size_t consistent = 0;
+    for (const Match& m : matches) {
+      const cv::Point2f predicted = cv::Point2f(128.f, 120.f) + 1.03f * (m.previous - cv::Point2f(128.f, 120.f));
+      consistent += cv::norm(predicted - m.current) < 1.5 ? 1 : 0;
+    }
+    EXPECT_GE(consistent, matches.size() * 9 / 10) << DetectorName(c.detector);
+  }
+}
+
+// KLT: corners tracked into the zoomed frame land where the zoom puts them (sub-pixel).
+TEST(FeatureTracker, KltTracksTheZoom) {
+  const cv::Mat a = TexturedImage(), b = Zoomed(a);
+  FeatureOptions o;
+  o.detector = Detector::kKlt;
+  const auto tracker = MakeFeatureTracker(o);
+  std::vector<Match> matches;
+  tracker->Track(a, b, &matches);
+  ASSERT_GE(matches.size(), 50u);
+  std::vector<double> err;
+  for (const Match& m : matches) {
+    const cv::Point2f predicted = cv::Point2f(128.f, 120.f) + 1.03f * (m.previous - cv::Point2f(128.f, 120.f));
+    err.push_back(cv::norm(predicted - m.current));
+  }
+  std::sort(err.begin(), err.end());
+  EXPECT_LT(err[err.size() / 2], 0.1);
+}
+
+}  // namespace
+}  // namespace squint::obstacles
