@@ -145,15 +145,16 @@ float TextureTable::BoxMean(double u0, double u1, double v0, double v1) const {
   const auto y0 = static_cast<std::int64_t>(std::floor(v0 * inv_texel_m));
   const std::int64_t x1 = std::min<std::int64_t>(static_cast<std::int64_t>(std::floor(u1 * inv_texel_m)) + 1, x0 + kTexSize);
   const std::int64_t y1 = std::min<std::int64_t>(static_cast<std::int64_t>(std::floor(v1 * inv_texel_m)) + 1, y0 + kTexSize);
-  // Sum over [0, x) × [0, y) of the periodic extension (x, y may be negative).
-  auto s2 = [&](std::int64_t x, std::int64_t y) {
-    const std::int64_t qx = x >> 7, qy = y >> 7;  // floor division by kTexSize
-    const std::int64_t rx = x & (kTexSize - 1), ry = y & (kTexSize - 1);
-    const auto at = [&](std::int64_t i, std::int64_t j) { return static_cast<std::int64_t>(sat[j * kS + i]); };
-    return qx * qy * at(kTexSize, kTexSize) + qx * at(kTexSize, ry) + qy * at(rx, kTexSize) + at(rx, ry);
-  };
-  static_assert(kTexSize == 128, "s2 divides by shifting");
-  const std::int64_t sum = s2(x1, y1) - s2(x0, y1) - s2(x1, y0) + s2(x0, y0);
+  // The periodic extension's prefix sum is S2(x, y) = qx qy T + qx C(ry) + qy R(rx) + S(rx, ry)
+  // with q = floor(x / kTexSize), r = x mod kTexSize, T the table total, C and R the sums of
+  // whole rows and columns; the box sum S2(x1,y1) - S2(x0,y1) - S2(x1,y0) + S2(x0,y0) groups into:
+  static_assert(kTexSize == 128, "the division by kTexSize shifts by 7");
+  const std::int64_t qx0 = x0 >> 7, qx1 = x1 >> 7, qy0 = y0 >> 7, qy1 = y1 >> 7;
+  const std::int64_t rx0 = x0 & (kTexSize - 1), rx1 = x1 & (kTexSize - 1), ry0 = y0 & (kTexSize - 1), ry1 = y1 & (kTexSize - 1);
+  const auto at = [&](std::int64_t i, std::int64_t j) { return static_cast<std::int64_t>(sat[j * kS + i]); };
+  const std::int64_t sum = (qx1 - qx0) * (qy1 - qy0) * at(kTexSize, kTexSize) +
+                           (qx1 - qx0) * (at(kTexSize, ry1) - at(kTexSize, ry0)) + (qy1 - qy0) * (at(rx1, kTexSize) - at(rx0, kTexSize)) +
+                           at(rx1, ry1) - at(rx0, ry1) - at(rx1, ry0) + at(rx0, ry0);
   return static_cast<float>(static_cast<double>(sum) / static_cast<double>((x1 - x0) * (y1 - y0))) * gain;
 }
 

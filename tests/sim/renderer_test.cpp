@@ -3,6 +3,7 @@
 // noise keyed by seed and frame.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -12,6 +13,7 @@
 #include "squint/core/error.hpp"
 #include "squint/sim/renderer.hpp"
 #include "squint/sim/world.hpp"
+#include "../../src/sim/textures.hpp"  // internal: the box-filtered texture tables
 
 namespace squint::sim {
 namespace {
@@ -231,6 +233,30 @@ TEST(Renderer, AdaptiveSupersamplingIsDeterministicAndKeepsExactRanges) {
   full.Render(pose, &lf, &rf, 7);
   EXPECT_EQ(cv::norm(la, lf, cv::NORM_INF), 0.0);
   EXPECT_EQ(cv::norm(ra, rf, cv::NORM_INF), 0.0);
+}
+
+// The summed-area box mean against summing the texels one by one, for boxes anywhere (negative
+// coordinates, across the table's period, wider than it, a single texel).
+TEST(Renderer, TextureBoxMeanEqualsTheTexelAverage) {
+  Material m;
+  m.texture = Texture::kCarpet;
+  m.scale_m = 0.37;
+  m.contrast = 0.6;
+  const detail::TextureTable t = detail::MakeTexture(m, 3);
+  constexpr int kN = detail::kTexSize;
+  auto brute = [&](double u0, double u1, double v0, double v1) {
+    const auto x0 = static_cast<long>(std::floor(u0 * t.inv_texel_m)), y0 = static_cast<long>(std::floor(v0 * t.inv_texel_m));
+    const long x1 = std::min(static_cast<long>(std::floor(u1 * t.inv_texel_m)) + 1, x0 + kN);
+    const long y1 = std::min(static_cast<long>(std::floor(v1 * t.inv_texel_m)) + 1, y0 + kN);
+    double sum = 0;
+    for (long y = y0; y < y1; ++y)
+      for (long x = x0; x < x1; ++x) sum += t.texels[((y % kN + kN) % kN) * kN + (x % kN + kN) % kN];
+    return sum / static_cast<double>((x1 - x0) * (y1 - y0)) * t.gain;
+  };
+  const double boxes[][4] = {{0.01, 0.02, 0.01, 0.02},     {0.1, 0.3, 0.05, 0.5},   {-0.93, -0.41, 2.2, 2.31},
+                             {0.70, 0.80, -0.05, 0.05},    {-3.0, 5.0, -0.2, 0.1},  {11.37, 11.9, -7.7, -7.05},
+                             {0.3333, 0.3334, 0.5, 0.5}};
+  for (const auto& b : boxes) EXPECT_NEAR(t.BoxMean(b[0], b[1], b[2], b[3]), brute(b[0], b[1], b[2], b[3]), 1e-5) << b[0] << " " << b[2];
 }
 
 TEST(Renderer, BadOptionsAreRejected) {
