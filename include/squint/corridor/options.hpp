@@ -21,17 +21,22 @@ struct HeadingCueOptions {
 
 struct HeadingOptions {
   // Per cue, indexed by HeadingCue. The paper (§5.1) found bright pixels and entropy most
-  // accurate on its corridors; on the ray-traced dev corridors (../shared/data/orient-*) and the
-  // simulator's sweeps, symmetry and the phase line vote are (per-cue RMSE / median error on
-  // orient-*: symmetry 10.8 / 1.6 deg, phase 7.2 / 2.1, vanishing 13.7 / 5.9, bright 12.2 / 5.5),
-  // hence these weights. Entropy is off (weight 0, not computed): on orient-* its sign is wrong
-  // on 59% of the frames with |heading| >= 5 deg (it peaks on the textured near wall); give it a
-  // weight (paper: the best cue) on corridors with plain walls and a lit far end.
+  // accurate on its corridors; on the ray-traced dev corridors (../shared/data/orient-*), the
+  // drives and the simulator's sweeps, symmetry and the phase line vote are (per-cue RMSE /
+  // median error on orient-*: symmetry 10.8 / 1.6 deg, phase 7.2 / 2.1, bright 12.2 / 5.5,
+  // vanishing 13.7 / 5.9), hence these weights. A cue with weight 0 is not computed:
+  // - entropy: on orient-* its sign is wrong on 59% of the frames with |heading| >= 5 deg (it
+  //   peaks on the textured near wall); give it a weight (paper: the best cue) on corridors
+  //   with plain walls and a lit far end;
+  // - vanishing (self-similarity): the least accurate cue on orient-*, the drives and the
+  //   simulator's sweeps, and any weight > 0 raises the fused error on all three (the phase line
+  //   vote finds the same vanishing point more reliably at 32×24); it is also half the glance's
+  //   time. Bright pixels keep a small weight: the ceiling lights help on orient-* and drive-*.
   std::array<HeadingCueOptions, kHeadingCueCount> cues = {{
       {.weight = 0.0},   // entropy: inverted on the dev data (see above)
       {.weight = 2.0},   // symmetry
       {.weight = 2.0},   // phase (line vote)
-      {.weight = 0.5},   // vanishing
+      {.weight = 0.0},   // vanishing (see above)
       {.weight = 0.5},   // bright
   }};
   // Width of the vertical slice around each column for entropy (f1) and phase (f3), pixels.
