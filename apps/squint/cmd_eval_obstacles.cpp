@@ -2,6 +2,8 @@
 // paper's Table 1 per sequence (single β vs zone β + refinement, learned leave-one-sequence-out),
 // as roc.png, report.json, report.md and the learned options YAML (`squint obstacles --options`).
 #include <chrono>
+#include <cmath>
+#include <optional>
 #include <filesystem>
 #include <memory>
 #include <sstream>
@@ -31,6 +33,7 @@ struct EvalObstaclesOptions {
   std::string options_file;
   std::string detector;
   double delta = 0.5;
+  std::optional<double> unclassified_cost;
   bool no_leave_one_out = false;
   bool compare_detectors = false;
 };
@@ -145,8 +148,11 @@ void Run(const EvalObstaclesOptions& cli) {
   if (!cli.detector.empty() && !obstacles::ParseDetector(cli.detector, &options.features.detector))
     throw Error("--detector must be sift, orb, akaze or klt (got '" + cli.detector + "')");
   if (!(cli.delta >= 0.0)) throw Error("--delta must not be negative");
+  if (cli.unclassified_cost && !(*cli.unclassified_cost >= 0.0 && std::isfinite(*cli.unclassified_cost)))
+    throw Error("--unclassified-cost must be a finite number not below 0");
   eval::ObstacleEvalOptions eval_options;
   eval_options.learning.delta = cli.delta;
+  if (cli.unclassified_cost) eval_options.learning.unclassified_cost = *cli.unclassified_cost;
   eval_options.leave_one_out = !cli.no_leave_one_out;
 
   io::StagedDirectory out(cli.out);
@@ -157,6 +163,7 @@ void Run(const EvalObstaclesOptions& cli) {
   json j;
   j["detector"] = obstacles::DetectorName(options.features.detector);
   j["delta"] = cli.delta;
+  j["unclassified_cost"] = eval_options.learning.unclassified_cost;
   j["leave_one_out"] = r.leave_one_out;
   j["optimum_beta_m"] = r.optimum_beta_m;
   j["pooled"] = {{"auc", r.pooled_roc.auc},
@@ -248,6 +255,8 @@ void Register(CLI::App& root) {
   cmd->add_option("--options", opt->options_file, "Options YAML to start from");
   cmd->add_option("--detector", opt->detector, "Feature detector: sift (default), orb, akaze or klt");
   cmd->add_option("--delta", opt->delta, "Weight of false negatives in FP + delta*FN (paper: 0.5)");
+  cmd->add_option("--unclassified-cost", opt->unclassified_cost,
+                  "lambda: cost of leaving a feature unclassified, relative to one false positive (default 0.15)");
   cmd->add_flag("--no-leave-one-out", opt->no_leave_one_out, "Learn beta on all sequences (training figures)");
   cmd->add_flag("--compare-detectors", opt->compare_detectors, "Also run every detector and add a comparison table");
   cmd->callback([opt] { Run(*opt); });
