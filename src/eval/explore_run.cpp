@@ -90,13 +90,18 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   std::optional<explore::VisualSonar> sonar;
   cv::Mat sonar_image;
   if (options.visual_sonar) {
-    const CameraModel sonar_camera = world.camera.Model().Scaled(options.sonar_width, options.sonar_height);
+    // Only the rows from a little above the horizon down are used: the frame is cropped there
+    // (same intrinsics, principal point moved), which saves rendering the ceiling.
+    CameraModel sonar_camera = world.camera.Model().Scaled(options.sonar_width, options.sonar_height);
+    const int crop_top = std::clamp(static_cast<int>(std::floor(sonar_camera.HorizonRow())) - 4, 0, sonar_camera.height / 2);
+    sonar_camera.height -= crop_top;
+    sonar_camera.cy -= crop_top;
     sim::RenderOptions sr = render;
     sr.supersample = options.sonar_supersample;
     sr.seed = options.seed + 1000003u;
     sonar_renderer.emplace(world, sonar_camera, sr);
     sonar.emplace(sonar_camera, options.sonar);
-    sonar_image.create(options.sonar_height, options.sonar_width, CV_8UC1);
+    sonar_image.create(sonar_camera.height, sonar_camera.width, CV_8UC1);
   }
 
   ExploreRunResult out;

@@ -499,7 +499,8 @@ Command Explorer::FollowStep(const Percept& p) {
     if (moved < opt_.stall_min_progress_m) {
       Emit(ExploreEvent::Kind::kStall, p, 0, "no wheel progress: backing off");
       state_ = ExploreState::kBackOff;
-      backoff_until_s_ = p.stamp_s + 2.0;
+      // Reversing is blind (no camera behind): with the sonar the robot only turns in place.
+      backoff_until_s_ = p.stamp_s + (sonar_seen_ ? 0.0 : 2.0);
       return {};
     }
   }
@@ -543,11 +544,14 @@ Command Explorer::FollowStep(const Percept& p) {
 
 Command Explorer::BackOffStep(const Percept& p) {
   if (p.stamp_s < backoff_until_s_) return {-0.2, 0.0};
-  // Treat the blockage like the end of the corridor: look and choose.
+  // Treat the blockage like the end of the corridor: look and choose. Blocked right after setting
+  // off (the node's position or the branch was wrong): that branch is a wall after all.
   ++ends_;
   last_ref_entropy_ = ReferenceEntropy();
+  const bool at_departure = sonar_seen_ && travel_in_corridor_m_ < opt_.map.merge_radius_m;
+  if (at_departure) map_.CancelDeparture();
   node_ = map_.Arrive(map_pose_.Translation(), dir_);
-  map_.SetBranch(node_, dir_, Branch::kWall);
+  map_.SetBranch(node_, dir_, Branch::kWall, at_departure);
   state_ = ExploreState::kProbe;
   probe_phase_ = 0;
   look_count_ = 0;

@@ -16,6 +16,7 @@ std::string ObstacleMemoryOptions::Validate() const {
   if (!(query_radius_m > 0.0) || !std::isfinite(query_radius_m)) return "query_radius_m must be positive";
   if (cells * cell_m < 2.0 * query_radius_m + 2.0 * cell_m) return "cells * cell_m must exceed 2 * query_radius_m";
   if (!(keep_seconds > 0.0) || !std::isfinite(keep_seconds)) return "keep_seconds must be positive";
+  if (!(blocked_min_range_m > 0.0) || !std::isfinite(blocked_min_range_m)) return "blocked_min_range_m must be positive";
   if (!(clear_blind_min_range_m >= 0.0) || !std::isfinite(clear_blind_min_range_m)) return "clear_blind_min_range_m must be >= 0";
   return {};
 }
@@ -55,9 +56,12 @@ void ObstacleMemory::ClearRay(const Eigen::Vector2d& origin, double yaw, double 
     Cell& c = At(origin + s * d);
     if (s >= seen_from_m) c.free_stamp_s = stamp_s;
     if (c.stamp_s < 0.0) continue;
-    // Only points on this side of the boundary: the cell may hold a point slightly beyond.
-    const double along = (c.p - origin).dot(d);
-    if (along < to_m) c.stamp_s = -1.0;
+    // Only points on this side of the boundary and on the ray itself (within half the spacing
+    // of neighbouring columns): a cell may hold a point beside the ray, such as a wall corner.
+    const Eigen::Vector2d q = c.p - origin;
+    const double along = q.dot(d);
+    const double lateral = std::abs(d.x() * q.y() - d.y() * q.x());
+    if (along < to_m && lateral <= 0.02 + 0.01 * along) c.stamp_s = -1.0;
   }
 }
 
@@ -136,7 +140,12 @@ double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double 
   double free = max_m;
   // The latest scan's columns blocked nearer than the blind range: a direction whose swept band
   // meets one of them at the blind range has no free travel (from where that scan was taken).
-  const double half = std::atan2(radius_m, std::max(blocked_range_m_, radius_m));
+  // How wide: when blocked columns count in full (use_blocked), the thing may be anywhere from
+  // just outside the disc to the blind range, so the sector is the one a point at
+  // options_.blocked_min_range_m would need; otherwise (the floor was mostly seen) the sector
+  // at the blind range.
+  const double half = use_blocked ? std::asin(std::min(1.0, radius_m / std::max(options_.blocked_min_range_m, radius_m)))
+                                  : std::atan2(radius_m, std::max(blocked_range_m_, radius_m));
   for (int i = 0; i < n_blocked_; ++i) {
     const double byaw = blocked_yaws_[static_cast<std::size_t>(i)];
     const double dy = std::remainder(byaw - yaw, 2.0 * M_PI);

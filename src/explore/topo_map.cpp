@@ -79,11 +79,11 @@ int TopoMap::Arrive(const Eigen::Vector2d& position_m, int travel_dir) {
   return id;
 }
 
-void TopoMap::SetBranch(int node, int dir, Branch state) {
+void TopoMap::SetBranch(int node, int dir, Branch state, bool force) {
   SQUINT_ENSURE(node >= 0 && node < static_cast<int>(nodes_.size()), "unknown node");
   SQUINT_ENSURE(dir >= 0 && dir < 4, "dir must be 0..3");
   Branch& b = nodes_[node].branch[dir];
-  if (b == Branch::kExplored && state != Branch::kExplored) return;
+  if (!force && b == Branch::kExplored && state != Branch::kExplored) return;
   b = state;
 }
 

@@ -90,7 +90,21 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
       above /= static_cast<float>(na);
       const float t = std::max(thr, sig * std::sqrt(fvar));
       if (std::abs(below - above) > thr && std::abs(above - fmean) > t) {
+        // The windows straddle a sharp edge first with one row of floor in the upper window:
+        // refine to the strongest step within the next k - 1 rows up.
         found = v;
+        float best = std::abs(below - above);
+        for (int j = v - 1; j > v - k && j >= top_row_; --j) {
+          float b2 = 0.0f, a2 = 0.0f;
+          int nb2 = 0, na2 = 0;
+          for (int i = 1; i <= k && j + i < h; ++i, ++nb2) b2 += profile_[static_cast<std::size_t>(j + i)];
+          for (int i = 0; i < k && j - i >= 0; ++i, ++na2) a2 += profile_[static_cast<std::size_t>(j - i)];
+          const float step = std::abs(b2 / static_cast<float>(nb2) - a2 / static_cast<float>(na2));
+          if (step > best) {
+            best = step;
+            found = j;
+          }
+        }
         break;
       }
       const float x = profile_[static_cast<std::size_t>(v)];

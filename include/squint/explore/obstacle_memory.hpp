@@ -22,6 +22,9 @@ struct ObstacleMemoryOptions {
   // A column whose floor reaches at least this far (metres) also clears the blind zone in front
   // of it (an obstacle standing there would have hidden the bottom rows).
   double clear_blind_min_range_m = 1.6;
+  // A blocked-near column may hide something this close (metres): the directions it blocks
+  // are those whose swept band meets its ray at this range.
+  double blocked_min_range_m = 0.6;
   std::string Validate() const;
 };
 

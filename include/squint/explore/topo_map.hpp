@@ -49,8 +49,9 @@ class TopoMap {
   // node (new, or an existing one within merge_radius_m); links it with the node the robot last
   // departed from and marks the branch it came in by as explored.
   int Arrive(const Eigen::Vector2d& position_m, int travel_dir);
-  // What looking (or bumping) told about a branch. An explored branch stays explored.
-  void SetBranch(int node, int dir, Branch state);
+  // What looking (or bumping) told about a branch. An explored branch stays explored unless
+  // `force` (the robot found it blocked right after setting off along it).
+  void SetBranch(int node, int dir, Branch state, bool force = false);
   // The robot leaves `node` along `dir`.
   void Depart(int node, int dir);
   // Forget the pending departure (the robot turned around mid-corridor, say).

@@ -19,8 +19,8 @@ struct VisualSonarOptions {
   double floor_memory = 0.7;      // running floor mean/variance: weight kept per row upward
   double floor_sigma_factor = 3.0;  // the step must also exceed this many floor spreads
   int min_floor_rows = 2;         // a step with fewer floor rows below it reads as blocked near
-  int column_half_width = 1;
-  int median_half_width = 2;     // ranges are the median over 2m + 1 neighbouring columns     // columns averaged on each side (texture suppression)
+  int column_half_width = 1;     // columns averaged on each side (texture suppression)
+  int median_half_width = 3;     // ranges are the median over 2m + 1 neighbouring columns
   double max_range_m = 6.0;      // boundaries farther than this (or at the horizon) read as far
   std::string Validate() const;  // empty when valid
 };

@@ -1,0 +1,213 @@
+// Visual sonar and obstacle memory on constructed inputs: images whose floor-boundary rows are
+// known give the camera model's floor ranges; uniform views read as blocked near; isolated
+// texture steps are voted out; remembered boundaries limit the free travel as the robot moves.
+#include "squint/explore/visual_sonar.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "squint/core/angles.hpp"
+#include "squint/core/error.hpp"
+#include "squint/explore/obstacle_memory.hpp"
+
+namespace squint::explore {
+namespace {
+
+CameraModel SonarCamera() {
+  // The default world's camera (0.6 m high, pitched 3° down, 60° wide) at 64×48.
+  CameraModel c;
+  c.width = 64;
+  c.height = 48;
+  c.fx = c.fy = 32.0 / std::tan(DegToRad(30.0));
+  c.cx = 31.5;
+  c.cy = 23.5;
+  c.height_m = 0.6;
+  c.pitch_deg = -3.0;
+  return c;
+}
+
+struct Image {
+  std::vector<std::uint8_t> px;
+  int w = 64, h = 48;
+  Image() : px(64 * 48, 0) {}
+  std::uint8_t& At(int u, int v) { return px[static_cast<std::size_t>(v * w + u)]; }
+  GrayView View() const { return {px.data(), w, h, w}; }
+};
+
+// Floor (bright, slightly textured) below `boundary[u]` (the lowest wall row), wall above.
+Image FloorWall(const std::vector<int>& boundary) {
+  Image im;
+  for (int u = 0; u < im.w; ++u)
+    for (int v = 0; v < im.h; ++v) im.At(u, v) = v > boundary[static_cast<std::size_t>(u)] ? 180 + ((u + v) % 3) : 120;
+  return im;
+}
+
+TEST(VisualSonar, KnownBoundaryRowsGiveTheFloorRangeOfThatRow) {
+  const CameraModel cam = SonarCamera();
+  VisualSonar sonar(cam);
+  std::vector<int> rows(64);
+  for (int u = 0; u < 64; ++u) rows[static_cast<std::size_t>(u)] = 30 + (u / 16) * 3;  // 30, 33, 36, 39 by blocks of 16
+  const Image im = FloorWall(rows);
+  const auto& out = sonar.Process(im.View());
+  ASSERT_EQ(out.size(), 64u);
+  for (int u = 0; u < 64; ++u) {
+    if (u % 16 < 4 || u % 16 > 11) continue;  // away from the block edges (the median spans 7 columns)
+    const SonarColumn& c = out[static_cast<std::size_t>(u)];
+    ASSERT_EQ(c.kind, SonarReturn::kBoundary) << "column " << u;
+    // Independent answer: the floor point of the boundary between the wall row and the floor row,
+    // in this column or one of the median's neighbours (same row, nearly the same range).
+    const int row = rows[static_cast<std::size_t>(u)];
+    double lo = 1e9, hi = 0.0;
+    for (int x = u - 3; x <= u + 3; ++x) {
+      const auto fp = cam.FloorPoint({static_cast<double>(x), row + 0.5});
+      ASSERT_TRUE(fp.has_value());
+      lo = std::min(lo, fp->norm());
+      hi = std::max(hi, fp->norm());
+    }
+    EXPECT_GE(c.range_m, lo - 1e-9) << "column " << u;
+    EXPECT_LE(c.range_m, hi + 1e-9) << "column " << u;
+    EXPECT_NEAR(c.bearing_rad, cam.BearingOfColumn(u), 1e-12);
+    if (c.boundary_row >= 0) EXPECT_EQ(c.boundary_row, row);
+  }
+  // Lower rows are nearer: the range grows from block to block upward.
+  EXPECT_GT(out[8].range_m, out[24].range_m);
+  EXPECT_GT(out[24].range_m, out[40].range_m);
+  EXPECT_GT(out[40].range_m, out[56].range_m);
+}
+
+TEST(VisualSonar, WallAtKnownDistanceReadsThatDistanceAhead) {
+  const CameraModel cam = SonarCamera();
+  VisualSonar sonar(cam);
+  // A wall across the view 2.0 m ahead: its base projects to one row per column.
+  std::vector<int> rows(64);
+  for (int u = 0; u < 64; ++u) {
+    const double bearing = cam.BearingOfColumn(u);
+    const auto px = cam.Project({2.0, 2.0 * std::tan(bearing), 0.0});
+    ASSERT_TRUE(px.has_value());
+    rows[static_cast<std::size_t>(u)] = static_cast<int>(std::floor(px->y()));  // the lowest wall row
+  }
+  const auto& out = sonar.Process(FloorWall(rows).View());
+  for (int u = 4; u < 60; ++u) {
+    const SonarColumn& c = out[static_cast<std::size_t>(u)];
+    ASSERT_EQ(c.kind, SonarReturn::kBoundary);
+    // Along x (forward) the wall is at 2.0 m; one row of quantisation at 2 m is about 0.1 m.
+    EXPECT_NEAR(c.range_m * std::cos(c.bearing_rad), 2.0, 0.12) << "column " << u;
+  }
+}
+
+TEST(VisualSonar, UniformViewIsBlockedNearAndFloorToTheHorizonIsFar) {
+  const CameraModel cam = SonarCamera();
+  VisualSonar sonar(cam);
+  Image wall;
+  for (auto& p : wall.px) p = 130;
+  for (const SonarColumn& c : sonar.Process(wall.View())) {
+    EXPECT_EQ(c.kind, SonarReturn::kBlockedNear);
+    EXPECT_EQ(c.range_m, 0.0);
+  }
+  // Floor up to the row above the horizon: a step there is beyond any range.
+  const int horizon = static_cast<int>(std::floor(cam.HorizonRow()));
+  const auto& far = sonar.Process(FloorWall(std::vector<int>(64, horizon - 1)).View());
+  for (const SonarColumn& c : far) {
+    EXPECT_EQ(c.kind, SonarReturn::kFar);
+    EXPECT_EQ(c.range_m, sonar.Options().max_range_m);
+  }
+  EXPECT_GT(sonar.NearBlindRangeM(), 1.0);  // 0.6 m high, 26° below the axis at the bottom row
+  EXPECT_LT(sonar.NearBlindRangeM(), 1.4);
+}
+
+TEST(VisualSonar, IsolatedTextureStepIsVotedOutByTheNeighbours) {
+  const CameraModel cam = SonarCamera();
+  VisualSonar sonar(cam);
+  Image im = FloorWall(std::vector<int>(64, 30));
+  // One dark floor tile in column 20 only, a few rows above the bottom.
+  for (int v = 38; v <= 41; ++v) im.At(20, v) = 90;
+  VisualSonarOptions no_median;
+  no_median.median_half_width = 0;
+  no_median.column_half_width = 0;
+  VisualSonar raw(cam, no_median);
+  EXPECT_LT(raw.Process(im.View())[20].range_m, sonar.RangeAt(20, 30) - 0.5);  // the raw column is fooled
+  const auto& out = sonar.Process(im.View());
+  EXPECT_EQ(out[20].kind, SonarReturn::kBoundary);
+  EXPECT_GE(out[20].range_m, std::min(sonar.RangeAt(17, 30), sonar.RangeAt(23, 30)) - 1e-9);
+  EXPECT_LE(out[20].range_m, std::max(sonar.RangeAt(17, 30), sonar.RangeAt(23, 30)) + 1e-9);
+}
+
+TEST(VisualSonar, BadInputIsAClearError) {
+  const CameraModel cam = SonarCamera();
+  VisualSonarOptions bad;
+  bad.step_threshold = -1.0;
+  EXPECT_THROW(VisualSonar(cam, bad), Error);
+  CameraModel up = cam;
+  up.pitch_deg = 40.0;  // horizon below the frame
+  EXPECT_THROW(VisualSonar{up}, Error);
+  VisualSonar sonar(cam);
+  std::vector<std::uint8_t> small(32 * 24, 0);
+  EXPECT_THROW(sonar.Process(GrayView{small.data(), 32, 24, 32}), std::logic_error);  // a programming error
+}
+
+// A scan with every column reading a wall `range` ahead along x.
+std::vector<SonarColumn> WallScan(const CameraModel& cam, double range_x) {
+  std::vector<SonarColumn> scan(static_cast<std::size_t>(cam.width));
+  for (int u = 0; u < cam.width; ++u) {
+    SonarColumn& c = scan[static_cast<std::size_t>(u)];
+    c.bearing_rad = cam.BearingOfColumn(u);
+    c.range_m = range_x / std::cos(c.bearing_rad);
+    c.kind = SonarReturn::kBoundary;
+  }
+  return scan;
+}
+
+TEST(ObstacleMemory, RememberedWallLimitsFreeTravelAsTheRobotMoves) {
+  const CameraModel cam = SonarCamera();
+  ObstacleMemory mem;
+  const double radius = 0.35;
+  mem.Update(WallScan(cam, 2.5), Pose2{0.0, 0.0, 0.0}, 0.0, 1.2);
+  mem.Gather(Pose2{0.0, 0.0, 0.0}, 0.0);
+  EXPECT_NEAR(mem.FreeTravel(Pose2{0.0, 0.0, 0.0}, 0.0, radius, 5.0), 2.5 - radius, 0.02);
+  EXPECT_EQ(mem.FreeTravel(Pose2{0.0, 0.0, 0.0}, kPi / 2, radius, 5.0), 5.0);  // nothing seen to the left
+  // The robot drives 1.5 m toward it: the wall is now inside the camera's blind range, but remembered.
+  const Pose2 moved{1.5, 0.0, 0.0};
+  mem.Gather(moved, 1.0);
+  EXPECT_NEAR(mem.FreeTravel(moved, 0.0, radius, 5.0), 1.0 - radius, 0.02);
+  // Forgotten after keep_seconds.
+  mem.Gather(moved, 1000.0);
+  EXPECT_EQ(mem.FreeTravel(moved, 0.0, radius, 5.0), 5.0);
+}
+
+TEST(ObstacleMemory, FloorSeenLaterClearsAStaleBoundary) {
+  const CameraModel cam = SonarCamera();
+  ObstacleMemory mem;
+  mem.Update(WallScan(cam, 2.0), Pose2{}, 0.0, 1.2);
+  mem.Update(WallScan(cam, 2.8), Pose2{}, 0.1, 1.2);  // the same view now shows floor to 2.8 m
+  mem.Gather(Pose2{}, 0.1);
+  EXPECT_NEAR(mem.FreeTravel(Pose2{}, 0.0, 0.35, 5.0), 2.8 - 0.35, 0.02);
+}
+
+TEST(ObstacleMemory, BlockedNearStopsForwardTravelUnlessTheFloorThereWasSeen) {
+  const CameraModel cam = SonarCamera();
+  std::vector<SonarColumn> blocked = WallScan(cam, 2.0);
+  for (SonarColumn& c : blocked) {
+    c.kind = SonarReturn::kBlockedNear;
+    c.range_m = 0.0;
+  }
+  ObstacleMemory mem;
+  mem.Update(blocked, Pose2{}, 0.0, 1.2);
+  mem.Gather(Pose2{}, 0.0);
+  EXPECT_EQ(mem.FreeTravel(Pose2{}, 0.0, 0.35, 5.0), 0.0);
+  EXPECT_EQ(mem.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, /*use_blocked=*/false), 0.0);  // nothing seen there
+  EXPECT_EQ(mem.FreeTravel(Pose2{}, kPi, 0.35, 5.0), 5.0);  // behind: not blocked by this scan
+  // Seen from 2 m back: floor up to 3.3 m ahead of that pose (1.3 m ahead of the robot now,
+  // beyond the blind zone checked from here).
+  ObstacleMemory seen;
+  seen.Update(WallScan(cam, 3.3), Pose2{-2.0, 0.0, 0.0}, 0.0, 1.2);
+  seen.Update(blocked, Pose2{}, 1.0, 1.2);
+  seen.Gather(Pose2{}, 1.0);
+  EXPECT_EQ(seen.FreeTravel(Pose2{}, 0.0, 0.35, 5.0), 0.0);
+  EXPECT_NEAR(seen.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, /*use_blocked=*/false), 1.3 - 0.35, 0.05);
+}
+
+}  // namespace
+}  // namespace squint::explore
