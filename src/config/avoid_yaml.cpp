@@ -91,7 +91,8 @@ AvoidOptions ParseAvoid(const YAML::Node& root, const std::string& source, const
   }
   if (const YAML::Node n = a["outline"]) {
     r.RequireMap(n, "avoid.outline", {"window_width_px", "window_height_px", "ground_stop_radius_px", "max_gap_rows",
-                                      "base_trace", "base_max_rise_px", "base_min_step"});
+                                      "base_trace", "base_below_features", "base_max_rise_px", "base_min_step"});
+    r.Get(n, "avoid.outline", "base_below_features", &o.outline.base_below_features);
     r.Get(n, "avoid.outline", "base_trace", &o.outline.base_trace);
     r.Get(n, "avoid.outline", "base_max_rise_px", &o.outline.base_max_rise_px);
     r.Get(n, "avoid.outline", "base_min_step", &o.outline.base_min_step);
@@ -141,7 +142,8 @@ std::string AvoidOptionsToYaml(const AvoidOptions& o) {
     << o.outline.window_width_px << YAML::Key << "window_height_px" << YAML::Value << o.outline.window_height_px
     << YAML::Key << "ground_stop_radius_px" << YAML::Value << o.outline.ground_stop_radius_px << YAML::Key
     << "max_gap_rows" << YAML::Value << o.outline.max_gap_rows << YAML::Key << "base_trace" << YAML::Value
-    << o.outline.base_trace << YAML::Key << "base_max_rise_px" << YAML::Value << o.outline.base_max_rise_px
+    << o.outline.base_trace << YAML::Key << "base_below_features" << YAML::Value << o.outline.base_below_features
+    << YAML::Key << "base_max_rise_px" << YAML::Value << o.outline.base_max_rise_px
     << YAML::Key << "base_min_step" << YAML::Value << o.outline.base_min_step << YAML::EndMap;
   e << YAML::Key << "polar" << YAML::Value << YAML::BeginMap << YAML::Key << "roi_radius_m" << YAML::Value
     << o.polar.roi_radius_m << YAML::Key << "sector_deg" << YAML::Value << o.polar.sector_deg << YAML::Key

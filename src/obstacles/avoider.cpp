@@ -43,6 +43,7 @@ const AvoidResult& Avoider::Process(const cv::Mat& gray, std::span<const Classif
   result_.outline_pixels = &tracer_.Pixels();
   result_.contacts.clear();
   for (const OutlineTrace& t : *result_.traces) {
+    if (t.below_feature) continue;  // its contacts are its base pixels
     if (auto c = ContactFromPixel(camera_, t.contact_px.cast<double>())) result_.contacts.push_back(*c);
   }
   for (const Eigen::Vector2i& p : tracer_.BaseContacts()) {

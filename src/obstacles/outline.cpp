@@ -124,6 +124,33 @@ const std::vector<OutlineTrace>& OutlineTracer::Trace(const cv::Mat& edges, cons
       }
     }
   }
+  if (base && options_.base_below_features) {
+    // An obstacle feature away from any vertical border (on a box's face, a wall): the first base
+    // straight below it, unless the floor (a ground feature within the window's half-width of the
+    // column) comes first.
+    for (const ClassifiedFeature& f : features) {
+      if (f.cls != FeatureClass::kObstacle) continue;
+      if (!std::isfinite(f.pixel.x()) || !std::isfinite(f.pixel.y())) continue;
+      const int fu = RoundPx(f.pixel.x()), fv = RoundPx(f.pixel.y());
+      if (fu < 0 || fu >= w || fv < 0 || fv >= h) continue;
+      bool floor = false;
+      for (int v = fv + 1; v < h && !floor; ++v) {
+        if (base_visited_.at<std::uint8_t>(v, fu) != 0) break;
+        // The floor comes first: a ground feature within the window's half-width of the column.
+        const std::uint8_t* g = ground_.ptr<std::uint8_t>(v);
+        for (int u = std::max(0, fu - hw); u <= std::min(w - 1, fu + hw) && !floor; ++u) floor = g[u] != 0;
+        if (floor) break;
+        if (base_edges.at<std::uint8_t>(v, fu) == 0) continue;
+        OutlineTrace drop;
+        drop.contact_px = Eigen::Vector2i(fu, v);
+        drop.below_feature = true;
+        TraceBase(base_edges, gray, &drop);
+        if (drop.base_count == 0) continue;  // not a step (a line or texture): look further down
+        traces_.push_back(drop);
+        break;
+      }
+    }
+  }
   return traces_;
 }
 

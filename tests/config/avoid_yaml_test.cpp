@@ -26,6 +26,11 @@ TEST(AvoidYamlTest, RoundTripKeepsEveryMember) {
   o.outline.window_height_px = 21;
   o.outline.ground_stop_radius_px = 3;
   o.outline.max_gap_rows = 2;
+  o.edges.base_edges = false;
+  o.outline.base_trace = false;
+  o.outline.base_below_features = false;
+  o.outline.base_max_rise_px = 3;
+  o.outline.base_min_step = 12.5;
   o.polar.roi_radius_m = 2.25;
   o.polar.sector_deg = 4.5;
   o.polar.min_contacts = 3;
@@ -50,6 +55,12 @@ TEST(AvoidYamlTest, RoundTripKeepsEveryMember) {
   EXPECT_EQ(back.polar.min_ground_range_m, o.polar.min_ground_range_m);
   EXPECT_EQ(back.gap.robot_radius_m, o.gap.robot_radius_m);
   EXPECT_EQ(back.gap.margin_m, o.gap.margin_m);
+  EXPECT_EQ(back.edges.base_edges, o.edges.base_edges);
+  EXPECT_EQ(back.outline.base_trace, o.outline.base_trace);
+  EXPECT_EQ(back.outline.base_below_features, o.outline.base_below_features);
+  EXPECT_EQ(back.outline.base_max_rise_px, o.outline.base_max_rise_px);
+  EXPECT_EQ(back.outline.base_min_step, o.outline.base_min_step);
+  EXPECT_EQ(AvoidOptionsToYaml(back), AvoidOptionsToYaml(o));
 }
 
 TEST(AvoidYamlTest, AbsentKeysKeepDefaultsAndTheIptSectionIsIgnored) {

@@ -182,6 +182,39 @@ TEST(ContactsTest, BaseTraceStopsAtAGroundFeature) {
   for (const ContactPoint& c : contacts) EXPECT_GT(c.floor_m.y(), -0.01) << c.pixel.transpose();
 }
 
+TEST(ContactsTest, BaseBelowAFeatureOnTheFaceOfABox) {
+  const CameraModel cam = ObstacleCamera();
+  const Box box{1.0, 1.3, -0.2, 0.15, 0.3};
+  const cv::Mat img = RenderBoxes(cam, {box});
+  // One obstacle feature in the middle of the front face: no vertical edge within its window,
+  // but the base straight below it.
+  std::vector<ClassifiedFeature> f = {Feature(cam, {1.0, -0.02, 0.15}, FeatureClass::kObstacle)};
+  ASSERT_TRUE(Contacts(cam, img, f).empty());
+  auto contacts = BaseContacts(cam, img, f);
+  ASSERT_GT(contacts.size(), 20u);
+  double lo = 90, hi = -90;
+  for (const ContactPoint& c : contacts) {
+    EXPECT_NEAR(c.floor_m.x(), 1.0, Analytic(cam, 1.0, c.floor_m.y()).range_tol_m) << c.pixel.transpose();
+    lo = std::min(lo, c.bearing_deg);
+    hi = std::max(hi, c.bearing_deg);
+  }
+  EXPECT_NEAR(hi, RadToDeg(std::atan2(0.15, 1.0)), 1.0);
+  EXPECT_NEAR(lo, RadToDeg(std::atan2(-0.2, 1.0)), 1.0);
+  // Off: nothing.
+  OutlineOptions off;
+  off.base_below_features = false;
+  EXPECT_TRUE(BaseContacts(cam, img, f, off).empty());
+  // A ground feature on the face between the feature and the base, 3 columns aside: the floor
+  // comes first (the feature may be a misclassified floor point), so no base.
+  const Eigen::Vector2d px = f[0].pixel;
+  const Eigen::Vector2d base = *cam.Project(Eigen::Vector3d(1.0, -0.02, 0.0));
+  ClassifiedFeature g;
+  g.pixel = g.previous_pixel = Eigen::Vector2d(px.x() + 3, 0.5 * (px.y() + base.y()));
+  g.cls = FeatureClass::kGround;
+  f.push_back(g);
+  EXPECT_TRUE(BaseContacts(cam, img, f).empty());
+}
+
 TEST(ContactsTest, BaseTraceDoesNotFollowAThinFloorLine) {
   const CameraModel cam = ObstacleCamera();
   const Box box{1.0, 1.3, -0.2, 0.15, 0.3};

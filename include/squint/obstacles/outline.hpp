@@ -31,6 +31,10 @@ struct OutlineOptions {
   // steps across it by at least base_min_step (mean of the rows 3-6 above against 3-6 below, with
   // one sign all along: a base, not a thin floor line) and until a ground feature.
   bool base_trace = true;
+  // With base_trace: also start a base below every obstacle feature, at the first horizontal
+  // edge straight below it that passes the step test, unless a ground feature comes first
+  // (within window_width_px / 2 columns of the way down).
+  bool base_below_features = true;
   int base_max_rise_px = 1;
   double base_min_step = 20.0;
 
@@ -43,6 +47,9 @@ struct OutlineTrace {
   int count = 0;
   Eigen::Vector2i contact_px;  // the last pixel: where the obstacle meets the floor
   bool stopped_on_ground = false;
+  // A base found straight below an obstacle feature (no vertical outline): contact_px is where
+  // the search met it, and its contacts are the base pixels only.
+  bool below_feature = false;
   int base_first = 0;  // its base pixels (each a contact): index into OutlineTracer::BaseContacts()
   int base_count = 0;
 };
