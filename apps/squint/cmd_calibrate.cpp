@@ -52,6 +52,8 @@ void Run(const CalibrateCliOptions& opt) {
   run_opt.perception.heading.max_abs_heading_deg = 89.0;
   run_opt.perception.distance.min_m = 0.0;
   run_opt.perception.distance.max_m = 1e9;
+  run_opt.perception.distance.valid_min_m = {0.0, 0.0, 0.0};
+  run_opt.perception.distance.valid_max_m = {1e9, 1e9, 1e9};
   run_opt.gated_pass = false;
 
   // Read and check every input before the long part.
@@ -93,8 +95,8 @@ void Run(const CalibrateCliOptions& opt) {
   if (fit.fit_distance) {
     const auto& d = file.options.distance;
     const auto& r = file.record.distance;
-    std::cout << fmt::format("  ttc      scale {:.3f} (1 = (s/f)*tau as is)  rmse {:.2f} m  sigma(d) = {:.2f} + {:.3f} d  n={}\n",
-                             d.ttc_scale, r[0].rmse_m, r[0].sigma0_m, r[0].sigma_slope, r[0].samples);
+    std::cout << fmt::format("  ttc      scale {:.3f} bias {:.2f} m (1, 0 = (s/f)*tau as is)  rmse {:.2f} m  sigma(d) = {:.2f} + {:.3f} d  n={}\n",
+                             d.ttc_scale, d.ttc_bias_m, r[0].rmse_m, r[0].sigma0_m, r[0].sigma_slope, r[0].samples);
     std::cout << fmt::format("  jeffrey  alpha2 {:.4g} beta2 {:.4g}  rmse {:.2f} m  sigma(d) = {:.2f} + {:.3f} d  n={}\n",
                              d.alpha2, d.beta2, r[1].rmse_m, r[1].sigma0_m, r[1].sigma_slope, r[1].samples);
     std::cout << fmt::format("  entropy  alpha3 {:.4g}  rmse {:.2f} m  sigma(d) = {:.2f} + {:.3f} d  n={}\n", d.alpha3,

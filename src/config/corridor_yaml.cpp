@@ -116,6 +116,9 @@ void ReadDistance(const YAML::Node& node, const std::string& source, corridor::D
         m.Get("enabled", enabled);
         d.enabled[i] = enabled;
         m.Get("weight", d.weights[i]);
+        m.Get("valid_min_m", d.valid_min_m[i]);
+        m.Get("valid_max_m", d.valid_max_m[i]);
+        m.Get("error_growth_per_m", d.error_growth_per_m[i]);
         m.CheckUnknown();
       }
     }
@@ -130,6 +133,11 @@ void ReadDistance(const YAML::Node& node, const std::string& source, corridor::D
   r.Get("image_bits", d.image_bits);
   r.Get("min_m", d.min_m);
   r.Get("max_m", d.max_m);
+  r.Get("median_frames", d.median_frames);
+  r.Get("ttc_max_baseline_frames", d.ttc_max_baseline_frames);
+  r.Get("ttc_baseline_fraction", d.ttc_baseline_fraction);
+  r.Get("ttc_centre_at_horizon", d.ttc_centre_at_horizon);
+  r.Get("ttc_gain_compensation", d.ttc_gain_compensation);
   r.CheckUnknown();
 }
 
@@ -161,6 +169,8 @@ CorridorOptions CorridorOptionsFromYaml(const std::string& text, const std::stri
     MapReader g(*gate, "gate", source);
     g.Get("enabled", options.gate.enabled);
     g.Get("threshold", options.gate.threshold);
+    g.Get("compare_with_last_processed", options.gate.compare_with_last_processed);
+    g.Get("max_skipped_frames", options.gate.max_skipped_frames);
     g.CheckUnknown();
   }
   r.CheckUnknown();
@@ -225,7 +235,9 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
   for (int i = 0; i < corridor::kDistanceCueCount; ++i) {
     e << YAML::Key << corridor::CueName(static_cast<DistanceCue>(i)) << YAML::Value << YAML::Flow << YAML::BeginMap
       << YAML::Key << "enabled" << YAML::Value << static_cast<bool>(d.enabled[i]) << YAML::Key << "weight"
-      << YAML::Value << d.weights[i] << YAML::EndMap;
+      << YAML::Value << d.weights[i] << YAML::Key << "valid_min_m" << YAML::Value << d.valid_min_m[i]
+      << YAML::Key << "valid_max_m" << YAML::Value << d.valid_max_m[i] << YAML::Key << "error_growth_per_m"
+      << YAML::Value << d.error_growth_per_m[i] << YAML::EndMap;
   }
   e << YAML::EndMap;
   e << YAML::Key << "ttc_scale" << YAML::Value << d.ttc_scale;
@@ -237,9 +249,16 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
   e << YAML::Key << "image_bits" << YAML::Value << d.image_bits;
   e << YAML::Key << "min_m" << YAML::Value << d.min_m;
   e << YAML::Key << "max_m" << YAML::Value << d.max_m;
+  e << YAML::Key << "median_frames" << YAML::Value << d.median_frames;
+  e << YAML::Key << "ttc_max_baseline_frames" << YAML::Value << d.ttc_max_baseline_frames;
+  e << YAML::Key << "ttc_baseline_fraction" << YAML::Value << d.ttc_baseline_fraction;
+  e << YAML::Key << "ttc_centre_at_horizon" << YAML::Value << d.ttc_centre_at_horizon;
+  e << YAML::Key << "ttc_gain_compensation" << YAML::Value << d.ttc_gain_compensation;
   e << YAML::EndMap;
   e << YAML::Key << "gate" << YAML::Value << YAML::BeginMap << YAML::Key << "enabled" << YAML::Value
-    << o.gate.enabled << YAML::Key << "threshold" << YAML::Value << o.gate.threshold << YAML::EndMap;
+    << o.gate.enabled << YAML::Key << "threshold" << YAML::Value << o.gate.threshold << YAML::Key
+    << "compare_with_last_processed" << YAML::Value << o.gate.compare_with_last_processed << YAML::Key
+    << "max_skipped_frames" << YAML::Value << o.gate.max_skipped_frames << YAML::EndMap;
   e << YAML::EndMap;
   return std::string(e.c_str()) + "\n";
 }

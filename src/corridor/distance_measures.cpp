@@ -2,6 +2,7 @@
 // (eq. 4) and entropy change (§4.2.3).
 #include "squint/corridor/distance_measures.hpp"
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <span>
 
@@ -14,99 +15,175 @@ constexpr int kW = kGlanceWidth;
 constexpr int kH = kGlanceHeight;
 
 void SetNoEstimate(DistanceMeasureResult& out, Reason reason) {
+  out.instant_m.reset();
   out.dist_m.reset();
   out.reason = reason;
 }
 
-// Range check shared by the cues.
-void SetDistance(const DistanceOptions& options, double dist_m, DistanceMeasureResult& out) {
-  if (!std::isfinite(dist_m) || dist_m < options.min_m || dist_m > options.max_m) {
-    return SetNoEstimate(out, Reason::kOutOfRange);
-  }
-  out.dist_m = dist_m;
-  out.reason = Reason::kNone;
+// Range check shared by the cues: the global range and the cue's validity window.
+std::optional<double> InRange(const DistanceOptions& options, DistanceCue cue, double dist_m) {
+  const int c = static_cast<int>(cue);
+  if (!std::isfinite(dist_m) || dist_m < options.min_m || dist_m > options.max_m) return std::nullopt;
+  if (dist_m < options.valid_min_m[c] || dist_m > options.valid_max_m[c]) return std::nullopt;
+  return dist_m;
+}
+
+// Sets out.model_input and the estimate from it (out.instant_m and out.dist_m alike).
+void SetInput(const DistanceMeasure& measure, double input, DistanceMeasureResult& out) {
+  out.model_input = input;
+  out.instant_m = measure.Distance(input);
+  out.dist_m = out.instant_m;
+  out.reason = out.dist_m ? Reason::kNone : Reason::kOutOfRange;
+}
+
+void Clear(DistanceMeasureResult& out, DistanceCue cue) {
+  out.cue = cue;
+  out.raw.reset();
+  out.model_input.reset();
+  out.filtered_input.reset();
+  out.instant_m.reset();
+  out.dist_m.reset();
+  out.baseline_frames = 0;
+  out.fused = false;
 }
 
 }  // namespace
 
 namespace {
 
-// Σ G² and Σ G·I_t of eq. 3 over the interior pixels. I_x, I_y: central differences averaged over
-// both frames; I_t = I2 − I1; G = x·I_x + y·I_y about (cx, cy).
+// The sums of eq. 3 over the interior pixels. I_x, I_y: central differences averaged over both
+// frames; I_t = I2 − I1; G = x·I_x + y·I_y about (cx, cy). With gain compensation also the
+// sums for regressing I_t on G, the mean brightness M = (I1 + I2)/2 and 1 jointly, so that a
+// change of camera gain or offset between the frames (I_t ∝ M) does not pass for expansion.
 struct TtcSums {
   double gg = 0.0;
   double git = 0.0;
+  // Gain-compensated: Σ G·M, Σ G, Σ M², Σ M, n, Σ M·I_t, Σ I_t.
+  double gm = 0.0, g1 = 0.0, mm = 0.0, m1 = 0.0, n = 0.0, mit = 0.0, it1 = 0.0;
+
+  // The coefficient c of I_t ≈ c·G (+ e·M + f); τ = −1/c. None when singular.
+  std::optional<double> Slope(bool gain) const {
+    if (gg == 0.0) return std::nullopt;
+    if (!gain) return git / gg;
+    Eigen::Matrix3d a;
+    a << gg, gm, g1, gm, mm, m1, g1, m1, n;
+    const Eigen::Vector3d b(git, mit, it1);
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(a);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return std::nullopt;
+    const Eigen::Vector3d x = ldlt.solve(b);
+    // A rank-deficient system (e.g. G ∝ M) leaves the slope undetermined.
+    if (!x.allFinite() || (a * x - b).norm() > 1e-6 * (b.norm() + 1.0)) return std::nullopt;
+    return x(0);
+  }
 };
 
-TtcSums SumTtc(const Glance& a, const Glance& b, double cx, double cy) {
+TtcSums SumTtc(const Glance& a, const Glance& b, double cx, double cy, bool gain) {
   // Single precision inside a row (vectorisable), double across rows.
   TtcSums s;
   for (int v = 1; v < kH - 1; ++v) {
     const float y = static_cast<float>(v - cy);
     const std::uint8_t* a0 = a.pixels.data() + v * kW;
     const std::uint8_t* b0 = b.pixels.data() + v * kW;
-    float gg = 0.0f, git = 0.0f;
+    float gg = 0.0f, git = 0.0f, gm = 0.0f, g1 = 0.0f, mm = 0.0f, m1 = 0.0f, mit = 0.0f, it1 = 0.0f;
     for (int u = 1; u < kW - 1; ++u) {
       const float x = static_cast<float>(u - cx);
       const int ix = (a0[u + 1] - a0[u - 1]) + (b0[u + 1] - b0[u - 1]);
       const int iy = (a0[u + kW] - a0[u - kW]) + (b0[u + kW] - b0[u - kW]);
       const float g = 0.25f * (x * static_cast<float>(ix) + y * static_cast<float>(iy));  // ix, iy: 4 × mean derivative
+      const float it = static_cast<float>(b0[u] - a0[u]);
       gg += g * g;
-      git += g * static_cast<float>(b0[u] - a0[u]);
+      git += g * it;
+      if (gain) {
+        const float m = 0.5f * static_cast<float>(a0[u] + b0[u]);
+        gm += g * m;
+        g1 += g;
+        mm += m * m;
+        m1 += m;
+        mit += m * it;
+        it1 += it;
+      }
     }
     s.gg += gg;
     s.git += git;
+    s.gm += gm;
+    s.g1 += g1;
+    s.mm += mm;
+    s.m1 += m1;
+    s.mit += mit;
+    s.it1 += it1;
   }
+  s.n = static_cast<double>((kW - 2) * (kH - 2));
   return s;
 }
 
 }  // namespace
 
-std::optional<double> TimeToContactFrames(const Glance& previous, const Glance& current, double cx, double cy) {
-  const TtcSums s = SumTtc(previous, current, cx, cy);
-  if (s.gg == 0.0 || s.git == 0.0) return std::nullopt;
-  return -s.gg / s.git;
+std::optional<double> TimeToContactFrames(const Glance& previous, const Glance& current, double cx, double cy,
+                                          bool gain_compensation) {
+  const std::optional<double> c = SumTtc(previous, current, cx, cy, gain_compensation).Slope(gain_compensation);
+  if (!c || *c == 0.0) return std::nullopt;
+  return -1.0 / *c;
 }
 
 void TimeToContactDistance::Measure(const PreparedGlance& previous, const PreparedGlance& current,
                                     std::optional<double> travelled_m, DistanceMeasureResult& out) const {
-  out.cue = Cue();
-  out.raw.reset();
-  if (previous.glance.pixels == current.glance.pixels) return SetNoEstimate(out, Reason::kIdenticalFrames);
-  if (previous.Uniform() && current.Uniform()) return SetNoEstimate(out, Reason::kUniformFrame);
-  const TtcSums s = SumTtc(previous.glance, current.glance, cx_, cy_);
+  if (previous.glance.pixels != current.glance.pixels && previous.Uniform() && current.Uniform()) {
+    Clear(out, Cue());
+    return SetNoEstimate(out, Reason::kUniformFrame);
+  }
+  MeasureBaseline(previous.glance, current.glance, 1, travelled_m, out);
+}
+
+void TimeToContactDistance::MeasureBaseline(const Glance& earlier, const Glance& current, int baseline_frames,
+                                            std::optional<double> travelled_m, DistanceMeasureResult& out) const {
+  Clear(out, Cue());
+  out.baseline_frames = baseline_frames;
+  if (earlier.pixels == current.pixels) return SetNoEstimate(out, Reason::kIdenticalFrames);
+  const TtcSums s = SumTtc(earlier, current, cx_, cy_, options_.ttc_gain_compensation);
   if (s.gg == 0.0) return SetNoEstimate(out, Reason::kZeroGradient);
-  if (s.git == 0.0) return SetNoEstimate(out, Reason::kTtcDenominatorZero);
-  const double tau_frames = -s.gg / s.git;
+  const std::optional<double> c = s.Slope(options_.ttc_gain_compensation);
+  if (!c || *c == 0.0) return SetNoEstimate(out, Reason::kTtcDenominatorZero);
+  const double tau_frames = -1.0 / *c;
   out.raw = tau_frames;
   if (tau_frames <= 0.0) return SetNoEstimate(out, Reason::kNotApproaching);
   if (!travelled_m || !(*travelled_m > 0.0)) return SetNoEstimate(out, Reason::kNoTravel);
-  SetDistance(options_, options_.ttc_scale * tau_frames * *travelled_m + options_.ttc_bias_m, out);
+  SetInput(*this, tau_frames * *travelled_m - 0.5 * *travelled_m, out);
+}
+
+std::optional<double> TimeToContactDistance::Distance(double model_input) const {
+  return InRange(options_, Cue(), options_.ttc_scale * model_input + options_.ttc_bias_m);
 }
 
 void JeffreyDistance::Measure(const PreparedGlance& previous, const PreparedGlance& current,
                               std::optional<double> /*travelled_m*/, DistanceMeasureResult& out) const {
-  out.cue = Cue();
-  out.raw.reset();
+  Clear(out, Cue());
   if (previous.glance.pixels == current.glance.pixels) return SetNoEstimate(out, Reason::kIdenticalFrames);
   const std::span<const std::uint32_t> p(previous.histogram.data(), static_cast<std::size_t>(previous.image_bins));
   const std::span<const std::uint32_t> q(current.histogram.data(), static_cast<std::size_t>(current.image_bins));
   const double j = JeffreyDivergence(p, q);
   out.raw = j;
-  SetDistance(options_, options_.beta2 - options_.alpha2 * j, out);
+  SetInput(*this, j, out);
+}
+
+std::optional<double> JeffreyDistance::Distance(double model_input) const {
+  return InRange(options_, Cue(), options_.beta2 - options_.alpha2 * model_input);
 }
 
 void EntropyDistance::Measure(const PreparedGlance& previous, const PreparedGlance& current,
                               std::optional<double> /*travelled_m*/, DistanceMeasureResult& out) const {
-  out.cue = Cue();
-  out.raw.reset();
+  Clear(out, Cue());
   if (previous.glance.pixels == current.glance.pixels) return SetNoEstimate(out, Reason::kIdenticalFrames);
-  // The paper's sign (H1 − H2) depends on whether entropy falls or rises towards the end; the
-  // magnitude of the change is what scales inversely with distance, so |ΔH| is used.
   const double dh = previous.entropy - current.entropy;
   out.raw = dh;
   if (dh == 0.0) return SetNoEstimate(out, Reason::kIdenticalFrames);
-  SetDistance(options_, options_.alpha3 / std::abs(dh), out);
+  SetInput(*this, dh, out);
+}
+
+// The paper's sign (H1 − H2) depends on whether entropy falls or rises towards the end; the
+// magnitude of the change is what scales inversely with distance, so |ΔH| is used.
+std::optional<double> EntropyDistance::Distance(double model_input) const {
+  if (model_input == 0.0) return std::nullopt;
+  return InRange(options_, Cue(), options_.alpha3 / std::abs(model_input));
 }
 
 }  // namespace squint::corridor

@@ -114,6 +114,18 @@ std::string DistanceOptions::Validate() const {
   if (image_bits < 1 || image_bits > 8) e << "distance.image_bits must be in [1, 8]; ";
   if (!Finite(min_m) || !Finite(max_m) || min_m < 0.0 || max_m <= min_m)
     e << "distance.min_m and max_m need 0 <= min_m < max_m; ";
+  for (int i = 0; i < kDistanceCueCount; ++i) {
+    const std::string cue = std::string("distance.cues.") + CueName(static_cast<DistanceCue>(i));
+    if (!Finite(valid_min_m[i]) || !Finite(valid_max_m[i]) || valid_min_m[i] < 0.0 || valid_max_m[i] <= valid_min_m[i])
+      e << cue << " needs 0 <= valid_min_m < valid_max_m; ";
+    if (!Finite(error_growth_per_m[i]) || error_growth_per_m[i] < 0.0) e << cue << ".error_growth_per_m must be >= 0; ";
+  }
+  if (median_frames < 1 || median_frames > kMaxDistanceMedianFrames)
+    e << "distance.median_frames must be in [1, " << kMaxDistanceMedianFrames << "]; ";
+  if (ttc_max_baseline_frames < 1 || ttc_max_baseline_frames > kMaxTtcBaselineFrames)
+    e << "distance.ttc_max_baseline_frames must be in [1, " << kMaxTtcBaselineFrames << "]; ";
+  if (!Finite(ttc_baseline_fraction) || ttc_baseline_fraction <= 0.0 || ttc_baseline_fraction > 1.0)
+    e << "distance.ttc_baseline_fraction must be in (0, 1]; ";
   std::string s = e.str();
   if (s.size() >= 2) s.resize(s.size() - 2);
   return s;
@@ -121,6 +133,7 @@ std::string DistanceOptions::Validate() const {
 
 std::string GateOptions::Validate() const {
   if (!Finite(threshold) || threshold < 0.0) return "gate.threshold must be >= 0";
+  if (max_skipped_frames < 0) return "gate.max_skipped_frames must be >= 0";
   return {};
 }
 

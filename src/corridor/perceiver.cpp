@@ -9,6 +9,13 @@
 #include "squint/core/error.hpp"
 
 namespace squint::corridor {
+namespace {
+
+// Odometry travel per frame below this (metres) means the robot stands or turns in place: the
+// distance cues' history restarts.
+constexpr double kMinDrivingTravelM = 1e-3;
+
+}  // namespace
 
 bool RapidPerceptionGate::Update(double entropy) {
   last_change_.reset();
@@ -18,15 +25,18 @@ bool RapidPerceptionGate::Update(double entropy) {
   if (!first && previous_) {
     if (*reference_ > 0.0) {
       last_change_ = std::abs(entropy - *previous_) / *reference_;
-      process = !options_.enabled || *last_change_ >= options_.threshold;
+      process = !options_.enabled || *last_change_ >= options_.threshold ||
+                (options_.max_skipped_frames > 0 && skipped_ >= options_.max_skipped_frames);
     }
   }
-  previous_ = entropy;
+  skipped_ = process ? 0 : skipped_ + 1;
+  if (process || !options_.compare_with_last_processed) previous_ = entropy;
   return process;
 }
 
 void RapidPerceptionGate::Reset() {
   reference_.reset();
+  skipped_ = 0;
 }
 
 Perceiver::Perceiver(const Options& options, std::optional<CameraModel> camera)
@@ -46,8 +56,11 @@ Perceiver::Perceiver(const Options& options, std::optional<CameraModel> camera)
   }
   for (int i = 0; i < kHeadingCueCount; ++i)
     heading_measures_[i] = MakeHeadingMeasure(static_cast<HeadingCue>(i), options_.heading, horizon_row);
-  distance_measures_[0] =
-      std::make_unique<TimeToContactDistance>(options_.distance, glance_camera_.cx, glance_camera_.cy);
+  // Time to contact expands about the point the robot drives towards: on the horizon when the
+  // camera's pitch is known.
+  const double ttc_cy =
+      (options_.distance.ttc_centre_at_horizon && horizon_row) ? *horizon_row : glance_camera_.cy;
+  distance_measures_[0] = std::make_unique<TimeToContactDistance>(options_.distance, glance_camera_.cx, ttc_cy);
   distance_measures_[1] = std::make_unique<JeffreyDistance>(options_.distance);
   distance_measures_[2] = std::make_unique<EntropyDistance>(options_.distance);
 }
@@ -58,6 +71,16 @@ void Perceiver::Reset() {
   gate_.Reset();
   gate_ = RapidPerceptionGate(options_.gate);
   has_previous_ = false;
+  ResetDistanceHistory();
+}
+
+void Perceiver::ResetDistanceHistory() {
+  history_count_ = 0;
+  history_head_ = 0;
+  travel_m_ = 0.0;
+  for (CueWindow& w : cue_windows_) w.count = w.head = 0;
+  short_window_.count = short_window_.head = 0;
+  last_ttc_input_m_.reset();
 }
 
 void Perceiver::ResetGateReference() { gate_.Reset(); }
@@ -156,7 +179,17 @@ PerceptionResult Perceiver::ProcessGlance(const Glance& glance, std::optional<do
   result.gate_change = gate_.LastChange();
   const bool had_previous = has_previous_;
   const PreparedGlance& prev = prepared_[current_];
+  // Distance history (every frame, processed or not): the travel since the previous frame, and
+  // a restart when the robot stands or turns in place (odometry reports no forward travel).
+  std::optional<double> travelled = travelled_m;
+  if (!travelled && options_.distance.speed_mps > 0.0 && dt_s > 0.0) travelled = options_.distance.speed_mps * dt_s;
+  if (travelled && *travelled < kMinDrivingTravelM) ResetDistanceHistory();
+  if (travelled) travel_m_ += std::max(0.0, *travelled);
   if (!process) {
+    history_head_ = (history_head_ + 1) % static_cast<int>(history_.size());
+    history_[history_head_] = glance;
+    history_travel_m_[history_head_] = travel_m_;
+    history_count_ = std::min(history_count_ + 1, static_cast<int>(history_.size()));
     // Skipped frames still become the previous frame of the next one, so consecutive-frame
     // measures always compare neighbouring frames.
     current_ = next;
@@ -183,24 +216,98 @@ PerceptionResult Perceiver::ProcessGlance(const Glance& glance, std::optional<do
     h.heading_deg = deg;
   }
 
-  std::optional<double> travelled = travelled_m;
-  if (!travelled && options_.distance.speed_mps > 0.0 && dt_s > 0.0) travelled = options_.distance.speed_mps * dt_s;
-  for (int i = 0; i < kDistanceCueCount; ++i) {
-    DistanceMeasureResult& d = result.distance[i];
-    if (!options_.distance.enabled[i] || options_.distance.weights[i] <= 0.0) {
-      d.reason = Reason::kDisabled;
-      continue;
-    }
-    if (!had_previous) {
-      d.reason = Reason::kNoPreviousFrame;
-      continue;
-    }
-    distance_measures_[i]->Measure(prev, cur, travelled, d);
+  if (had_previous) {
+    MeasureDistances(prev, cur, travelled, result);
+  } else {
+    for (DistanceMeasureResult& d : result.distance) d.reason = Reason::kNoPreviousFrame;
   }
+  history_head_ = (history_head_ + 1) % static_cast<int>(history_.size());
+  history_[history_head_] = glance;
+  history_travel_m_[history_head_] = travel_m_;
+  history_count_ = std::min(history_count_ + 1, static_cast<int>(history_.size()));
   Fuse(result);
   current_ = next;
   has_previous_ = true;
   return result;
+}
+
+std::optional<double> Perceiver::PushAndMedian(CueWindow& w, std::optional<double> input, bool travel_compensated) const {
+  const int n = options_.distance.median_frames;
+  if (input) {
+    w.head = (w.head + 1) % n;
+    w.input[w.head] = *input;
+    w.travel_m[w.head] = travel_m_;
+    w.count = std::min(w.count + 1, n);
+  }
+  if (w.count == 0) return std::nullopt;
+  std::array<double, kMaxDistanceMedianFrames> v{};
+  for (int k = 0; k < w.count; ++k) v[k] = travel_compensated ? w.input[k] - (travel_m_ - w.travel_m[k]) : w.input[k];
+  const int mid = w.count / 2;
+  std::nth_element(v.begin(), v.begin() + mid, v.begin() + w.count);
+  double med = v[mid];
+  if (w.count % 2 == 0) med = 0.5 * (med + *std::max_element(v.begin(), v.begin() + mid));
+  return med;
+}
+
+void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlance& cur,
+                                 std::optional<double> travelled, PerceptionResult& result) {
+  const DistanceOptions& o = options_.distance;
+  const int n_hist = static_cast<int>(history_.size());
+  for (int i = 0; i < kDistanceCueCount; ++i) {
+    DistanceMeasureResult& d = result.distance[i];
+    if (!o.enabled[i] || o.weights[i] <= 0.0) {
+      d.reason = Reason::kDisabled;
+      continue;
+    }
+    const bool ttc = static_cast<DistanceCue>(i) == DistanceCue::kTimeToContact;
+    if (ttc && history_count_ > 0) {
+      const auto& measure = static_cast<const TimeToContactDistance&>(*distance_measures_[i]);
+      // The one-frame time to contact, median-filtered on its own: a reference for the
+      // baseline that cannot run away (a too-long baseline decorrelates the glances near the
+      // end and returns a large τ, which would lengthen the baseline further).
+      std::optional<double> s1;
+      if (travelled) s1 = travel_m_ - history_travel_m_[history_head_];
+      measure.MeasureBaseline(history_[history_head_], cur.glance, 1, s1, d);
+      std::optional<double> short_input = d.model_input;
+      if (!short_input && d.raw && *d.raw <= 0.0 && travelled) short_input = HUGE_VAL;
+      const std::optional<double> short_median = PushAndMedian(short_window_, short_input, false);
+      std::optional<double> reference = last_ttc_input_m_;
+      if (short_median && (!reference || *short_median < *reference)) reference = short_median;
+      // The longest baseline (history_[head - k + 1] is k frames back: the current glance is not
+      // in the history yet) whose travel stays within the fraction of the reference distance;
+      // with no reference yet, one frame.
+      const int max_k = std::min(o.ttc_max_baseline_frames, history_count_);
+      int k = 1;
+      for (int kk = max_k; kk > 1 && reference; --kk) {
+        const int idx = ((history_head_ - kk + 1) % n_hist + n_hist) % n_hist;
+        if (travel_m_ - history_travel_m_[idx] <= o.ttc_baseline_fraction * *reference) {
+          k = kk;
+          break;
+        }
+      }
+      if (k > 1) {
+        const int idx = ((history_head_ - k + 1) % n_hist + n_hist) % n_hist;
+        std::optional<double> s;
+        if (travelled) s = travel_m_ - history_travel_m_[idx];
+        measure.MeasureBaseline(history_[idx], cur.glance, k, s, d);
+      }
+    } else {
+      distance_measures_[i]->Measure(prev, cur, travelled, d);
+    }
+    // Temporal median of the model input. Time to contact: a contracting or unchanging image
+    // (τ ≤ 0: no measurable expansion) counts as "very far", and earlier values are moved to
+    // this frame by the travel since.
+    std::optional<double> input = d.model_input;
+    if (ttc && !input && d.raw && *d.raw <= 0.0 && travelled) input = HUGE_VAL;
+    const std::optional<double> median = PushAndMedian(cue_windows_[i], input, ttc);
+    if (!median) continue;
+    const double med = *median;
+    if (!std::isfinite(med)) continue;  // mostly "very far": no estimate
+    d.filtered_input = med;
+    if (ttc) last_ttc_input_m_ = med;
+    d.dist_m = distance_measures_[i]->Distance(med);
+    d.reason = d.dist_m ? Reason::kNone : Reason::kOutOfRange;
+  }
 }
 
 void Perceiver::Fuse(PerceptionResult& result) const {
@@ -249,13 +356,16 @@ void Perceiver::Fuse(PerceptionResult& result) const {
     }
     if (sw > 0.0) result.heading_deg = swd / sw;
   }
-  // Distance: weighted mean of the available estimates (paper §5.3).
+  // Distance: weighted mean of the available (median-filtered) estimates (paper §5.3), each
+  // weight falling with the cue's error growth: inverse variance when σ grows with distance.
   double sw = 0.0, swd = 0.0;
   for (int i = 0; i < kDistanceCueCount; ++i) {
     DistanceMeasureResult& d = result.distance[i];
     if (!d.dist_m) continue;
-    sw += options_.distance.weights[i];
-    swd += options_.distance.weights[i] * *d.dist_m;
+    const double g = 1.0 + options_.distance.error_growth_per_m[i] * std::max(0.0, *d.dist_m);
+    const double w = options_.distance.weights[i] / (g * g);
+    sw += w;
+    swd += w * *d.dist_m;
     d.fused = true;
   }
   if (sw > 0.0) result.dist_end_m = swd / sw;

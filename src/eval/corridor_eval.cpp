@@ -213,26 +213,7 @@ CorridorRun RunCorridorSequence(const io::Sequence& sequence, const CorridorRunO
   if (options.gated_pass) with_gate.emplace(gated, sequence.Camera());
   corridor::CorridorKalman kalman(options.kalman);
 
-  SQUINT_ENSURE(options.distance_median_frames >= 1, "median window must be >= 1");
-  std::array<std::vector<double>, kDistanceCueCount> windows;
-  std::vector<double> scratch;
   const corridor::DistanceOptions& dopt = options.perception.distance;
-  const auto model = [&dopt](int c, double raw) -> std::optional<double> {
-    double d = 0.0;
-    switch (static_cast<DistanceCue>(c)) {
-      case DistanceCue::kTimeToContact:
-        if (!(raw > 0.0)) return std::nullopt;  // not approaching
-        d = dopt.ttc_scale * raw + dopt.ttc_bias_m;
-        break;
-      case DistanceCue::kJeffrey: d = dopt.beta2 - dopt.alpha2 * raw; break;
-      case DistanceCue::kEntropy:
-        if (raw == 0.0) return std::nullopt;
-        d = dopt.alpha3 / raw;
-        break;
-    }
-    if (!std::isfinite(d) || d < dopt.min_m || d > dopt.max_m) return std::nullopt;
-    return d;
-  };
 
   const auto& records = sequence.Frames();
   run.frames.reserve(records.size());
@@ -262,47 +243,24 @@ CorridorRun RunCorridorSequence(const io::Sequence& sequence, const CorridorRunO
       if (h.column_px) f.heading_camera_deg[c] = all.ColumnToHeadingDeg(*h.column_px);
       f.heading_deg[c] = h.heading_deg;
     }
-    for (int c = 0; c < kDistanceCueCount; ++c) {
-      const corridor::DistanceMeasureResult& d = r.distance[c];
-      if (d.raw) {
-        if (c == static_cast<int>(DistanceCue::kTimeToContact)) {
-          double travel = f.travelled_m.value_or(0.0);
-          if (!f.travelled_m && options.perception.distance.speed_mps > 0.0)
-            travel = options.perception.distance.speed_mps * dt_s;
-          if (travel > 0.0) f.dist_raw[c] = *d.raw * travel;
-        } else {
-          f.dist_raw[c] = d.raw;
-        }
-      }
-      f.dist_m[c] = d.dist_m;
-    }
-    f.fused_heading_deg = r.heading_deg;
-    f.fused_dist_m = r.dist_end_m;
-
-    // Running medians of the raw distance quantities while driving forward.
+    // Per cue: this frame's own model input and estimate, and the Perceiver's temporal median
+    // (its output). The unfiltered weighted average is recomputed here for comparison.
     double sw = 0.0, swd = 0.0;
     for (int c = 0; c < kDistanceCueCount; ++c) {
-      std::vector<double>& w = windows[c];
-      if (!f.moving_forward) w.clear();
-      if (f.dist_raw[c]) {
-        if (w.size() == options.distance_median_frames) w.erase(w.begin());
-        w.push_back(*f.dist_raw[c]);
-      }
-      if (w.empty() || !f.moving_forward || !options.perception.distance.enabled[c]) continue;
-      scratch.assign(w.begin(), w.end());
-      const std::size_t mid = scratch.size() / 2;
-      std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(mid), scratch.end());
-      double med = scratch[mid];
-      if (scratch.size() % 2 == 0)
-        med = 0.5 * (med + *std::max_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(mid)));
-      f.dist_filtered_raw[c] = med;
-      f.dist_filtered_m[c] = model(c, med);
-      if (f.dist_filtered_m[c]) {
-        sw += dopt.weights[c];
-        swd += dopt.weights[c] * *f.dist_filtered_m[c];
+      const corridor::DistanceMeasureResult& d = r.distance[c];
+      f.dist_raw[c] = d.model_input;
+      f.dist_m[c] = d.instant_m;
+      f.dist_filtered_raw[c] = d.filtered_input;
+      f.dist_filtered_m[c] = d.dist_m;
+      if (d.instant_m) {
+        const double g = 1.0 + dopt.error_growth_per_m[c] * std::max(0.0, *d.instant_m);
+        sw += dopt.weights[c] / (g * g);
+        swd += dopt.weights[c] / (g * g) * *d.instant_m;
       }
     }
-    if (sw > 0.0) f.filtered_dist_m = swd / sw;
+    if (sw > 0.0) f.instant_dist_m = swd / sw;
+    f.fused_heading_deg = r.heading_deg;
+    f.fused_dist_m = r.dist_end_m;
 
     // Kalman filter over the cues, odometry as the process model.
     if (i > 0) kalman.Predict(motion);
@@ -439,7 +397,7 @@ CorridorCalibrationFile FitCorridorCalibration(const std::vector<CorridorRun>& r
         case DistanceCue::kTimeToContact:
           fit = corridor::FitTtcScale(s, what, options.distance);
           out.options.distance.ttc_scale = fit.scale;
-          out.options.distance.ttc_bias_m = 0.0;
+          out.options.distance.ttc_bias_m = fit.beta;
           break;
         case DistanceCue::kJeffrey:
           fit = corridor::FitJeffrey(s, what, options.distance);
@@ -584,10 +542,10 @@ std::string WriteCorridorReport(const std::vector<CorridorRun>& runs, const fs::
   heading_est.push_back({"kalman", [](const CorridorFrame& f) { return f.kalman_heading_deg; }});
   for (int c = 0; c < kDistanceCueCount; ++c)
     dist_est.push_back({DName(c), [c](const CorridorFrame& f) { return f.dist_m[c]; }});
-  dist_est.push_back({"fused", [](const CorridorFrame& f) { return f.fused_dist_m; }});
+  dist_est.push_back({"fused_instant", [](const CorridorFrame& f) { return f.instant_dist_m; }});
   for (int c = 0; c < kDistanceCueCount; ++c)
     dist_est.push_back({std::string(DName(c)) + "_median", [c](const CorridorFrame& f) { return f.dist_filtered_m[c]; }});
-  dist_est.push_back({"fused_median", [](const CorridorFrame& f) { return f.filtered_dist_m; }});
+  dist_est.push_back({"fused", [](const CorridorFrame& f) { return f.fused_dist_m; }});
   dist_est.push_back({"kalman", [](const CorridorFrame& f) { return f.kalman_dist_m; }});
 
   // Heading (frames with a true heading).

@@ -39,8 +39,18 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   o.distance.ttc_bias_m = 0.3;
   o.distance.min_m = 0.2;
   o.distance.max_m = 40.0;
+  o.distance.valid_min_m = {0.5, 1.0, 2.0};
+  o.distance.valid_max_m = {9.0, 20.0, 30.0};
+  o.distance.error_growth_per_m = {0.1, 0.2, 0.3};
+  o.distance.median_frames = 7;
+  o.distance.ttc_max_baseline_frames = 12;
+  o.distance.ttc_baseline_fraction = 0.07;
+  o.distance.ttc_centre_at_horizon = false;
+  o.distance.ttc_gain_compensation = true;
   o.gate.threshold = 0.02;
   o.gate.enabled = false;
+  o.gate.compare_with_last_processed = false;
+  o.gate.max_skipped_frames = 5;
   const std::string text = CorridorOptionsToYaml(o);
   const CorridorOptions back = CorridorOptionsFromYaml(text, "test.yaml");
   EXPECT_EQ(CorridorOptionsToYaml(back), text);
@@ -60,8 +70,18 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   EXPECT_EQ(back.distance.enabled, o.distance.enabled);
   EXPECT_EQ(back.distance.alpha2, 123.5);
   EXPECT_EQ(back.distance.max_m, 40.0);
+  EXPECT_EQ(back.distance.valid_min_m, o.distance.valid_min_m);
+  EXPECT_EQ(back.distance.valid_max_m, o.distance.valid_max_m);
+  EXPECT_EQ(back.distance.error_growth_per_m, o.distance.error_growth_per_m);
+  EXPECT_EQ(back.distance.median_frames, 7);
+  EXPECT_EQ(back.distance.ttc_max_baseline_frames, 12);
+  EXPECT_EQ(back.distance.ttc_baseline_fraction, 0.07);
+  EXPECT_FALSE(back.distance.ttc_centre_at_horizon);
+  EXPECT_TRUE(back.distance.ttc_gain_compensation);
   EXPECT_EQ(back.gate.threshold, 0.02);
   EXPECT_FALSE(back.gate.enabled);
+  EXPECT_FALSE(back.gate.compare_with_last_processed);
+  EXPECT_EQ(back.gate.max_skipped_frames, 5);
 }
 
 TEST(CorridorYaml, PartialFileKeepsDefaults) {

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "squint/corridor/prepared_glance.hpp"
@@ -45,13 +46,17 @@ TEST(TimeToContact, ScaledGlanceGivesKnownTimeWithin5Percent) {
     const auto tau = TimeToContactFrames(a, b, cx, cy);
     ASSERT_TRUE(tau.has_value());
     EXPECT_NEAR(*tau, expected, 0.05 * expected) << "k = " << k;
-    // The distance cue: τ × travelled per frame.
+    // The distance cue: τ × travelled per frame, from the middle of the baseline to the
+    // current frame (− s/2). Scaling by k = Z1/Z2 with Z1 − Z2 = 0.1 m puts the current frame
+    // 0.1 · (k/(k−1) − 1) m from the plane.
     DistanceOptions options;
     TimeToContactDistance ttc(options, cx, cy);
     DistanceMeasureResult r;
     ttc.Measure(Prepare(a), Prepare(b), 0.1, r);
     ASSERT_TRUE(r.dist_m.has_value()) << ReasonText(r.reason);
-    EXPECT_NEAR(*r.dist_m, 0.1 * expected, 0.05 * 0.1 * expected);
+    const double current_m = 0.1 * (k / (k - 1.0) - 1.0);
+    EXPECT_NEAR(*r.dist_m, current_m, 0.05 * current_m);
+    EXPECT_EQ(r.baseline_frames, 1);
     EXPECT_NEAR(*r.raw, *tau, 1e-3 * *tau);
   }
 }
@@ -98,6 +103,68 @@ TEST(TimeToContact, DegenerateInputs) {
   ttc.Measure(Prepare(a), Prepare(b), std::nullopt, r);
   EXPECT_EQ(r.reason, Reason::kNoTravel);
   EXPECT_TRUE(r.raw.has_value());
+}
+
+TEST(TimeToContact, LongerBaselineGivesTheCurrentDistance) {
+  // Frames 4 apart, 0.1 m per frame: the plane is 10 m from the current frame and 10.4 m from
+  // the earlier one, a magnification of k = 10.4 / 10.
+  const double cx = 15.5, cy = 11.5;
+  const Glance earlier = SmoothPattern(1.0, cx, cy);
+  const Glance current = SmoothPattern(10.4 / 10.0, cx, cy);
+  TimeToContactDistance ttc(DistanceOptions{}, cx, cy);
+  DistanceMeasureResult r;
+  ttc.MeasureBaseline(earlier, current, 4, 0.4, r);
+  ASSERT_TRUE(r.dist_m.has_value()) << ReasonText(r.reason);
+  EXPECT_EQ(r.baseline_frames, 4);
+  EXPECT_NEAR(*r.dist_m, 10.0, 0.5);
+  ASSERT_TRUE(r.model_input.has_value());
+  EXPECT_DOUBLE_EQ(*r.model_input, *r.raw * 0.4 - 0.2);
+  EXPECT_EQ(r.instant_m, r.dist_m);
+}
+
+TEST(TimeToContact, GainCompensationIgnoresABrightnessChange) {
+  // The same 4 % magnification, the second frame 10 % brighter plus 5 grey levels (camera gain).
+  const double cx = 15.5, cy = 11.5, k = 1.04;
+  const Glance a = SmoothPattern(1.0, cx, cy);
+  Glance b = SmoothPattern(k, cx, cy);
+  for (auto& p : b.pixels) p = static_cast<std::uint8_t>(std::lround(std::min(255.0, 1.1 * p + 5.0)));
+  const double expected = k / (k - 1.0) - 0.5;
+  const auto with = TimeToContactFrames(a, b, cx, cy, true);
+  ASSERT_TRUE(with.has_value());
+  EXPECT_NEAR(*with, expected, 0.05 * expected);
+  // Without compensation the brightness change passes for expansion or contraction.
+  const auto without = TimeToContactFrames(a, b, cx, cy, false);
+  // (here 22.5 frames against 25.5, the compensated 25.2).
+  ASSERT_TRUE(without.has_value());
+  EXPECT_GT(std::abs(*without - expected), 0.1 * expected);
+  EXPECT_GT(std::abs(*without - expected), 5.0 * std::abs(*with - expected));
+  // With no brightness change both agree within 5 %.
+  const Glance c = SmoothPattern(k, cx, cy);
+  EXPECT_NEAR(*TimeToContactFrames(a, c, cx, cy, true), *TimeToContactFrames(a, c, cx, cy, false), 0.05 * expected);
+}
+
+TEST(DistanceMeasures, ValidityWindowPerCue) {
+  DistanceOptions options;
+  options.alpha2 = 1.0;
+  options.beta2 = 10.0;
+  options.valid_min_m[1] = 2.0;
+  options.valid_max_m[1] = 6.0;
+  const JeffreyDistance jeffrey(options);
+  EXPECT_FALSE(jeffrey.Distance(9.0).has_value());  // 1 m: below the window
+  ASSERT_TRUE(jeffrey.Distance(6.0).has_value());   // 4 m
+  EXPECT_DOUBLE_EQ(*jeffrey.Distance(6.0), 4.0);
+  EXPECT_FALSE(jeffrey.Distance(3.0).has_value());  // 7 m: above it
+  // The other cues keep the default window.
+  options.alpha3 = 1.0;
+  const EntropyDistance entropy(options);
+  ASSERT_TRUE(entropy.Distance(-0.5).has_value());  // |ΔH| is used
+  EXPECT_DOUBLE_EQ(*entropy.Distance(-0.5), 2.0);
+  EXPECT_FALSE(entropy.Distance(0.0).has_value());
+  options.ttc_scale = 2.0;
+  options.ttc_bias_m = 1.0;
+  const TimeToContactDistance ttc(options, 15.5, 11.5);
+  EXPECT_DOUBLE_EQ(*ttc.Distance(3.0), 7.0);
+  EXPECT_FALSE(ttc.Distance(-1.0).has_value());  // below min_m = 0
 }
 
 TEST(JeffreyDistance, FollowsTheLinearModelAndRejectsIdenticalFrames) {

@@ -109,7 +109,8 @@ struct DistanceSpread {
 };
 
 struct DistanceFit {
-  // ttc: truth ≈ scale · raw (the TTC scale check: 1 means (s/f)·τ is right as it stands).
+  // ttc: truth ≈ scale · raw (the TTC scale check: 1 means (s/f)·τ is right as it stands;
+  //   beta stays 0).
   // jeffrey: truth ≈ beta - alpha · J  (paper's β2, α2).
   // entropy: truth ≈ alpha / ΔH (paper's α3; fitted as ΔH ≈ α3 · (1/truth), the same model
   //   with errors taken in ΔH, which stays well-conditioned where ΔH crosses 0).

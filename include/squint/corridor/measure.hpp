@@ -67,7 +67,17 @@ struct DistanceMeasureResult {
   // The raw quantity before the distance model: time to contact in frames (eq. 3), the Jeffrey
   // divergence J (eq. 4), or the entropy change H(t-1) - H(t) in nats.
   std::optional<double> raw;
+  // What the distance model takes: time to contact times the baseline's travel, minus half of
+  // it (metres from the current frame), J, or ΔH; this frame's value, and its temporal median
+  // (DistanceOptions::median_frames) that dist_m comes from.
+  std::optional<double> model_input;
+  std::optional<double> filtered_input;
+  // This frame's own estimate (no temporal median), and the Perceiver's estimate (the model on
+  // the median; the cue's output).
+  std::optional<double> instant_m;
   std::optional<double> dist_m;
+  // Time to contact: the glances compared lie this many frames apart (0 for the other cues).
+  int baseline_frames = 0;
   Reason reason = Reason::kNotProcessed;
   bool fused = false;
 

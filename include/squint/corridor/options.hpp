@@ -134,14 +134,58 @@ struct DistanceOptions {
   // Estimates outside [min_m, max_m] are "out of range".
   double min_m = 0.0;
   double max_m = 60.0;
+  // Per cue: its validity window. A cue's (filtered, calibrated) estimate outside
+  // [valid_min_m, valid_max_m] is "out of range" and not fused: e.g. time to contact where the
+  // scene is not yet planar enough, Jeffrey divergence where the image barely changes. Fitted by
+  // `squint calibrate` from the distances over which each cue's error stays small.
+  std::array<double, kDistanceCueCount> valid_min_m = {0.0, 0.0, 0.0};
+  std::array<double, kDistanceCueCount> valid_max_m = {60.0, 60.0, 60.0};
+  // Per cue: how fast its error grows with its own estimate d (1/m). The fusion weight of an
+  // estimate d is weights[c] / (1 + growth[c] · d)², i.e. inverse variance for an error
+  // σ(d) = σ0 · (1 + growth · d) with weights[c] = 1/σ0² (0 = a constant weight).
+  std::array<double, kDistanceCueCount> error_growth_per_m = {0.0, 0.0, 0.0};
+  // Temporal median over the last median_frames frames of each cue's model input (the paper
+  // median-filters time to contact), so perceive, eval and explore all see filtered distances.
+  // Time-to-contact values (metres) are first moved to the current frame by the odometry
+  // travelled since. The window restarts when the robot does not drive forward. 1 = none.
+  int median_frames = 9;
+  // Time to contact compares the current glance with the one k frames back (k ≤
+  // ttc_max_baseline_frames): the longest baseline whose travel is at most
+  // ttc_baseline_fraction × the current distance estimate, so the image expands by a few
+  // percent between the two glances (a one-frame baseline far from the end expands the image by
+  // a fraction of a grey level; a long one near the end breaks the linearisation).
+  int ttc_max_baseline_frames = 16;
+  double ttc_baseline_fraction = 0.1;
+  // Expansion centre of time to contact: the horizon row (the robot translates horizontally,
+  // whatever the camera's pitch) when the camera is known, else the glance centre.
+  bool ttc_centre_at_horizon = true;
+  // Time to contact regresses the temporal change on the expansion term and the brightness
+  // jointly, so that automatic gain between webcam frames (a 10–20 % change of mean brightness
+  // on ../shared/data/drive-*) is not read as expansion or contraction. Off by default: on the
+  // drive-* calibration split it made the calibrated time to contact worse, not better (the
+  // brightness term also absorbs part of the expansion of a textured wall).
+  bool ttc_gain_compensation = false;
 
   std::string Validate() const;
 };
+
+// Upper bounds of the fixed-size buffers behind the options above.
+inline constexpr int kMaxDistanceMedianFrames = 31;
+inline constexpr int kMaxTtcBaselineFrames = 32;
 
 struct GateOptions {
   bool enabled = true;
   // Skip full processing when |H(t) - H(t-1)| / H(reference) < threshold (§5.3: 0.01).
   double threshold = 0.01;
+  // What H(t-1) is. false: the previous frame (the paper), so a slow drift of the view never
+  // triggers processing and the processed frames are exactly the abrupt ones (doors, lights,
+  // gain jumps), a biased, harder sample. true: the last processed frame, so the change is
+  // measured against what the robot last looked at, and a slow change accumulates until it
+  // crosses the threshold.
+  bool compare_with_last_processed = true;
+  // Process at least every (max_skipped_frames + 1)-th frame whatever the entropy does, so
+  // that the estimates never go stale for long (0 = no limit).
+  int max_skipped_frames = 0;
 
   std::string Validate() const;
 };

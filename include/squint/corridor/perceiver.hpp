@@ -42,7 +42,9 @@ class RapidPerceptionGate {
   explicit RapidPerceptionGate(GateOptions options = {}) : options_(options) {}
   // Feeds the entropy of the next glance; returns true when the frame must be fully processed.
   // The first frame after Reset() becomes the reference and is always processed; so is any frame
-  // when the reference entropy is 0 (a uniform first frame) or the gate is disabled.
+  // when the reference entropy is 0 (a uniform first frame) or the gate is disabled, and any
+  // frame after max_skipped_frames skipped ones. The change is measured from the previous frame
+  // or, with compare_with_last_processed, from the last processed one.
   bool Update(double entropy);
   // The next frame becomes the new reference (call when a new corridor starts).
   void Reset();
@@ -53,6 +55,7 @@ class RapidPerceptionGate {
   std::optional<double> reference_;
   std::optional<double> previous_;
   std::optional<double> last_change_;
+  int skipped_ = 0;  // frames skipped since the last processed one
 };
 
 class Perceiver {
@@ -93,6 +96,11 @@ class Perceiver {
   void FuseHeadingCurves(PerceptionResult& result) const;
   // Inverse of ColumnToHeadingDeg.
   double HeadingDegToColumn(double heading_deg) const;
+  // Distance cues: time to contact over the chosen baseline, the temporal medians, and the
+  // glance history they need (fixed-size: no allocation).
+  void MeasureDistances(const PreparedGlance& prev, const PreparedGlance& cur, std::optional<double> travelled,
+                        PerceptionResult& result);
+  void ResetDistanceHistory();
 
   Options options_;
   CameraModel glance_camera_;
@@ -104,6 +112,26 @@ class Perceiver {
   std::array<PreparedGlance, 2> prepared_{};
   int current_ = 0;
   bool has_previous_ = false;
+  // Distance state. history_: the last glances of continuous forward driving (ring, newest at
+  // history_head_), with the odometry travel accumulated up to each; cues_: per cue, the last
+  // median_frames model inputs (ring) with the travel at which each was measured.
+  std::array<Glance, kMaxTtcBaselineFrames + 1> history_{};
+  std::array<double, kMaxTtcBaselineFrames + 1> history_travel_m_{};
+  int history_count_ = 0;
+  int history_head_ = 0;
+  double travel_m_ = 0.0;
+  struct CueWindow {
+    std::array<double, kMaxDistanceMedianFrames> input{};
+    std::array<double, kMaxDistanceMedianFrames> travel_m{};
+    int count = 0;
+    int head = 0;
+  };
+  std::array<CueWindow, kDistanceCueCount> cue_windows_{};
+  CueWindow short_window_{};  // the one-frame time to contact (the baseline's reference)
+  // Pushes `input` (when given) and returns the median of the window; time-to-contact inputs
+  // are first moved to the current frame by the travel since.
+  std::optional<double> PushAndMedian(CueWindow& w, std::optional<double> input, bool travel_compensated) const;
+  std::optional<double> last_ttc_input_m_;  // the last filtered time-to-contact input
 };
 
 }  // namespace squint::corridor

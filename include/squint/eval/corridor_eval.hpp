@@ -83,17 +83,17 @@ struct CorridorFrame {
   // Pass without the gate (every frame processed):
   std::array<std::optional<double>, corridor::kHeadingCueCount> heading_camera_deg{};  // uncalibrated
   std::array<std::optional<double>, corridor::kHeadingCueCount> heading_deg{};         // calibrated
-  // Raw distance quantities: ttc τ·travelled (m), Jeffrey J, entropy ΔH = H(t−1) − H(t).
+  // Per distance cue, from the Perceiver: this frame's model input (ttc: τ·s − s/2 in metres
+  // over the chosen baseline; Jeffrey J; entropy ΔH = H(t−1) − H(t)) and estimate, and the
+  // temporal median of the inputs (DistanceOptions::median_frames) with its estimate (the cue's
+  // output, what the Perceiver fuses).
   std::array<std::optional<double>, corridor::kDistanceCueCount> dist_raw{};
   std::array<std::optional<double>, corridor::kDistanceCueCount> dist_m{};
-  // The raw distance quantities median-filtered over the last CorridorRunOptions::
-  // distance_median_frames frames of forward driving (the paper filters TTC with a median), and
-  // the distances the options' models give for them; their weighted average.
   std::array<std::optional<double>, corridor::kDistanceCueCount> dist_filtered_raw{};
   std::array<std::optional<double>, corridor::kDistanceCueCount> dist_filtered_m{};
-  std::optional<double> filtered_dist_m;
+  std::optional<double> instant_dist_m;  // weighted average of the unfiltered estimates
   std::optional<double> fused_heading_deg;  // the Perceiver's weighted average
-  std::optional<double> fused_dist_m;
+  std::optional<double> fused_dist_m;  // the Perceiver's weighted average of the filtered cues
   std::optional<double> kalman_heading_deg;  // the Kalman filter over the cues, odometry as process
   std::optional<double> kalman_dist_m;
   // Pass with the rapid-perception gate:
@@ -118,9 +118,6 @@ struct CorridorRunOptions {
   // less than max_turn_deg.
   double min_forward_m = 1e-3;
   double max_turn_deg = 0.5;
-  // Window of the running median over each distance cue's raw value (1 = no filtering). The
-  // window restarts whenever the robot stops driving forward.
-  std::size_t distance_median_frames = 9;
 };
 
 // Runs both passes over every frame. `progress(i)` is called after each frame when given.

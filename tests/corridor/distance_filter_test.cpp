@@ -1,0 +1,143 @@
+// The Perceiver's distance pipeline and gate on constructed sequences: an approach to a plane
+// (time to contact over a growing baseline, the temporal median with odometry, the restart when
+// the robot stops) and the rapid-perception gate's reference and forced processing.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "squint/corridor/perceiver.hpp"
+
+namespace squint::corridor {
+namespace {
+
+// A smooth pattern on a plane Z metres ahead of a camera that started z0 metres away, seen
+// magnified by z0 / Z about the glance point (cx, cy).
+Glance PlaneAt(double z, double z0 = 12.0, double cx = 15.5, double cy = 11.5) {
+  const double scale = z0 / z;
+  Glance g;
+  for (int v = 0; v < kGlanceHeight; ++v)
+    for (int u = 0; u < kGlanceWidth; ++u) {
+      const double x = (u - cx) / scale, y = (v - cy) / scale;
+      const double value = 128.0 + 50.0 * std::sin(0.31 * x + 0.17 * y) + 40.0 * std::cos(0.23 * y - 0.27 * x + 0.5);
+      g.At(u, v) = static_cast<std::uint8_t>(std::lround(std::clamp(value, 0.0, 255.0)));
+    }
+  return g;
+}
+
+CorridorOptions DistanceOnly() {
+  CorridorOptions o;
+  o.gate.enabled = false;
+  for (auto& c : o.heading.cues) c.enabled = false;
+  o.distance.enabled = {true, false, false};  // time to contact alone: its model is the identity
+  return o;
+}
+
+TEST(PerceiverDistance, ApproachingAPlaneGivesTheDistanceOverALongerBaseline) {
+  // No camera: the expansion centre is the glance centre (15.5, 11.5), where PlaneAt expands.
+  Perceiver perceiver(DistanceOnly(), std::nullopt);
+  const double step = 0.05;
+  int longest = 0;
+  for (int i = 0; i <= 60; ++i) {
+    const double z = 12.0 - step * i;
+    const PerceptionResult r = perceiver.ProcessGlance(PlaneAt(z), i == 0 ? std::nullopt : std::optional(step), 0.1);
+    const DistanceMeasureResult& d = r.Distance(DistanceCue::kTimeToContact);
+    longest = std::max(longest, d.baseline_frames);
+    if (i < 12) continue;  // the median window fills
+    ASSERT_TRUE(r.dist_end_m.has_value()) << "frame " << i << ": " << ReasonText(d.reason);
+    EXPECT_NEAR(*r.dist_end_m, z, 0.05 * z) << "frame " << i;
+    ASSERT_TRUE(d.filtered_input.has_value());
+  }
+  // One frame expands this image by 0.4 %; the baseline grows towards 10 % of the distance.
+  EXPECT_GE(longest, 8);
+}
+
+TEST(PerceiverDistance, MedianRejectsAnOutlierFrameAndRestartsWhenStopped) {
+  Perceiver perceiver(DistanceOnly(), std::nullopt);
+  const double step = 0.05;
+  std::optional<double> before;
+  for (int i = 0; i <= 30; ++i) {
+    const double z = 12.0 - step * i;
+    Glance g = PlaneAt(z);
+    if (i == 25)  // one corrupted frame (a flash): its own estimate is far off
+      for (auto& p : g.pixels) p = static_cast<std::uint8_t>(255 - p);
+    const PerceptionResult r = perceiver.ProcessGlance(g, i == 0 ? std::nullopt : std::optional(step), 0.1);
+    if (i >= 25) {
+      ASSERT_TRUE(r.dist_end_m.has_value()) << "frame " << i;
+      EXPECT_NEAR(*r.dist_end_m, z, 0.05 * z) << "frame " << i;
+    }
+    before = r.dist_end_m;
+  }
+  ASSERT_TRUE(before.has_value());
+  // The robot stops (odometry: no travel): the history restarts, so no time to contact until it
+  // drives again and the window refills.
+  PerceptionResult r = perceiver.ProcessGlance(PlaneAt(10.48), 0.0, 0.1);
+  EXPECT_FALSE(r.dist_end_m.has_value());
+  EXPECT_EQ(r.Distance(DistanceCue::kTimeToContact).reason, Reason::kNoTravel);
+  r = perceiver.ProcessGlance(PlaneAt(10.43), step, 0.1);
+  EXPECT_EQ(r.Distance(DistanceCue::kTimeToContact).baseline_frames, 1);
+}
+
+TEST(PerceiverDistance, FusionWeightFallsWithTheCueErrorGrowth) {
+  // Two cues at different distances: with growth the nearer estimate weighs more.
+  CorridorOptions o = DistanceOnly();
+  o.distance.enabled = {false, true, true};
+  o.distance.median_frames = 1;
+  o.distance.alpha2 = 0.0;
+  o.distance.beta2 = 2.0;  // Jeffrey: always 2 m
+  o.distance.alpha3 = 0.0;
+  // Entropy's model gives alpha3 / |ΔH|; make it answer by setting alpha3 from the frames' ΔH.
+  const Glance a = PlaneAt(10.0), b = PlaneAt(9.0);
+  PreparedGlance pa, pb;
+  ComputeHistogramAndEntropy(a, o.distance.image_bits, pa);
+  ComputeHistogramAndEntropy(b, o.distance.image_bits, pb);
+  const double dh = std::abs(pa.entropy - pb.entropy);
+  ASSERT_GT(dh, 0.0);
+  o.distance.alpha3 = 8.0 * dh;  // entropy: 8 m
+  Perceiver equal(o, std::nullopt);
+  equal.ProcessGlance(a, 1.0, 0.1);
+  PerceptionResult r = equal.ProcessGlance(b, 1.0, 0.1);
+  ASSERT_TRUE(r.dist_end_m.has_value());
+  EXPECT_NEAR(*r.dist_end_m, 5.0, 1e-9);  // equal weights: (2 + 8) / 2
+  o.distance.error_growth_per_m = {0.0, 1.0, 1.0};
+  Perceiver growing(o, std::nullopt);
+  growing.ProcessGlance(a, 1.0, 0.1);
+  r = growing.ProcessGlance(b, 1.0, 0.1);
+  ASSERT_TRUE(r.dist_end_m.has_value());
+  // Weights 1/3² and 1/9²: (2/9 + 8/81) / (1/9 + 1/81) = 2.6 m.
+  EXPECT_NEAR(*r.dist_end_m, (2.0 / 9.0 + 8.0 / 81.0) / (1.0 / 9.0 + 1.0 / 81.0), 1e-9);
+}
+
+TEST(Gate, SlowDriftAccumulatesAgainstTheLastProcessedFrame) {
+  // Entropy 1.000, 1.004, 1.008, ...: each step is 0.4 % of the reference.
+  GateOptions paper;
+  paper.compare_with_last_processed = false;
+  RapidPerceptionGate previous_frame(paper);
+  RapidPerceptionGate last_processed{GateOptions{}};
+  std::vector<bool> a, b;
+  for (int i = 0; i < 10; ++i) {
+    a.push_back(previous_frame.Update(1.0 + 0.004 * i));
+    b.push_back(last_processed.Update(1.0 + 0.004 * i));
+  }
+  // Frame-to-frame the change never reaches 1 %: only the reference frame is processed.
+  EXPECT_EQ(std::count(a.begin(), a.end(), true), 1);
+  // Against the last processed frame the drift adds up: 0.4 %, 0.8 %, then 1.2 % >= 1 % on every
+  // third frame.
+  EXPECT_EQ(b, (std::vector<bool>{true, false, false, true, false, false, true, false, false, true}));
+}
+
+TEST(Gate, ProcessesAtLeastEveryNthFrame) {
+  GateOptions o;
+  o.max_skipped_frames = 3;
+  RapidPerceptionGate gate(o);
+  std::vector<bool> p;
+  for (int i = 0; i < 9; ++i) p.push_back(gate.Update(2.0));  // no change at all
+  EXPECT_EQ(p, (std::vector<bool>{true, false, false, false, true, false, false, false, true}));
+  GateOptions bad;
+  bad.max_skipped_frames = -1;
+  EXPECT_FALSE(bad.Validate().empty());
+}
+
+}  // namespace
+}  // namespace squint::corridor
