@@ -7,25 +7,13 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "../tests/obstacles/obstacle_camera.hpp"
 #include "squint/obstacles/avoider.hpp"
 
 namespace {
 
-using squint::CameraModel;
 using squint::obstacles::ClassifiedFeature;
 using squint::obstacles::FeatureClass;
-
-CameraModel BenchCamera() {
-  CameraModel c;
-  c.width = 256;
-  c.height = 192;
-  c.fx = c.fy = 194.7353;
-  c.cx = 127.5;
-  c.cy = 95.5;
-  c.height_m = 0.43;
-  c.pitch_deg = -9.0;
-  return c;
-}
 
 // A textured floor (tiles + noise) with six dark boxes, 150 obstacle features on and around
 // their borders and 150 ground features: a busy scene, heavier than the data sets' frames.
@@ -71,7 +59,7 @@ Scene MakeScene() {
 
 void BM_Avoid(benchmark::State& state) {
   const Scene scene = MakeScene();
-  squint::obstacles::Avoider avoider(BenchCamera());
+  squint::obstacles::Avoider avoider(squint::obstacles::testing::ObstacleCamera());
   avoider.Process(scene.image, scene.features);  // warm the buffers
   for (auto _ : state) {
     const auto& r = avoider.Process(scene.image, scene.features);

@@ -1,5 +1,5 @@
-// Test helper: ray-cast images of boxes standing on a flat floor, seen by the obstacle data
-// sets' camera, with the analytic answers (contact pixels, ranges, bearings) to check against.
+// Test helper: ray-cast images of boxes standing on a flat floor, seen by the obstacle data sets'
+// camera (obstacle_camera.hpp), with the analytic answers (contact pixels, ranges, bearings).
 #pragma once
 
 #include <cmath>
@@ -8,23 +8,11 @@
 
 #include <opencv2/core.hpp>
 
+#include "obstacle_camera.hpp"
 #include "squint/core/camera.hpp"
 #include "squint/obstacles/feature.hpp"
 
 namespace squint::obstacles::testing {
-
-// The camera of ../shared/data/obstacles-*: 256×192, 0.43 m high, pitched −9° (paper §6.1).
-inline CameraModel ObstacleCamera() {
-  CameraModel c;
-  c.width = 256;
-  c.height = 192;
-  c.fx = c.fy = 194.7353;
-  c.cx = 127.5;
-  c.cy = 95.5;
-  c.height_m = 0.43;
-  c.pitch_deg = -9.0;
-  return c;
-}
 
 // An axis-aligned box on the floor: x in [x_near, x_far], y in [y_right, y_left], z in [0, h].
 struct Box {
