@@ -8,7 +8,9 @@
 // corners are traced first and a per-frame mask marks the pixels that wall edges, light panels,
 // decals and flat items may cross (their outlines projected into the image); a pixel whose
 // corners see one region of one plane is shaded once (box-filtered texture, summed-area
-// tables), other pixels shade their samples on the planes met without a full trace.
+// tables), other pixels shade their samples on the planes met without a full trace (a pixel
+// that one wall/floor or wall/ceiling line splits: each sample's side from that line's affine
+// image equation, with no plane search).
 #include "squint/sim/renderer.hpp"
 
 #include <fmt/format.h>
@@ -145,6 +147,7 @@ struct Renderer::Impl {
   // Adaptive supersampling (n >= 3, undistorted camera).
   bool adaptive = false;
   std::vector<Sample> corners;       // (width + 1) × (height + 1) rays through the pixel corners
+  std::vector<Eigen::Vector3d> corner_dir;  // their robot-frame directions, unnormalised (affine in the image)
   std::vector<int> col_bin_lo, col_bin_hi;  // per pixel column: bearing bins its rays may use
   Eigen::Matrix3d cam_R_robot = Eigen::Matrix3d::Identity();
   std::vector<SurfPt> corner_pt;     // per frame
@@ -200,6 +203,13 @@ struct Renderer::Impl {
     if (adaptive)
       for (int v = 0; v <= cam.height; ++v)
         for (int u = 0; u <= cam.width; ++u) corners.push_back(make(u - 0.5, v - 0.5));
+    corner_dir.clear();
+    if (adaptive) {
+      const Eigen::Matrix3d robot_R_cam = cam.RobotRotationCamera();
+      for (int v = 0; v <= cam.height; ++v)
+        for (int u = 0; u <= cam.width; ++u)
+          corner_dir.push_back(robot_R_cam * Eigen::Vector3d((u - 0.5 - cam.cx) / cam.fx, (v - 0.5 - cam.cy) / cam.fy, 1.0));
+    }
     double lo = kInf, hi = -kInf;
     for (const auto* set : {&samples, &centres, &corners})
       for (const Sample& s : *set) {
@@ -1085,6 +1095,13 @@ struct Renderer::Impl {
       has_floor = has_floor || p.key1 == kFloorKey;
       has_ceiling = has_ceiling || p.key1 == kCeilingKey;
     }
+    if (np == 2 && !geometry && plain[0] && plain[1]) {
+      const bool wall0 = static_cast<Surf>(keys[0] >> 24) == Surf::kWall, wall1 = static_cast<Surf>(keys[1] >> 24) == Surf::kWall;
+      if (wall0 != wall1) {
+        const double mean = PixelSplit(idx, wall0 ? keys[0] : keys[1], wall0 ? keys[1] : keys[0]);
+        if (mean >= 0) return mean;
+      }
+    }
     PlainAccum acc[4];
     const bool by_bins = geometry || (has_floor && has_ceiling);
     const int nn = n * n;
@@ -1134,6 +1151,79 @@ struct Renderer::Impl {
     }
     for (int q = 0; q < np; ++q)
       if (acc[q].count > 0) sum += acc[q].count * AccumRadiance(acc[q], static_cast<Surf>(keys[q] >> 24), corner_pt[idx[first[q]]].mat);
+    return sum / nn;
+  }
+
+  // Mean radiance of a pixel that one straight line splits between a plain region of wall w
+  // (key wall_key) and a plain region of the floor or ceiling (plane_key), without tracing: the
+  // line is where the plane meets the wall's plane, and on which side of it a ray lies is an
+  // affine function G of the image point (G > 0: the plane is nearer). Each side is shaded once
+  // from its samples' mean light map and the box of their texture coordinates, as PixelPlanes
+  // does. -1 when the pixel does not fit (a corner on the wrong side of the line, a ray that
+  // does not head towards the plane).
+  double PixelSplit(const std::size_t (&idx)[4], std::uint32_t wall_key, std::uint32_t plane_key) const {
+    const int w = static_cast<int>(wall_key & 0xFFFFFFu);
+    const WallSegment& ws = world.walls[w];
+    const bool ceiling = static_cast<Surf>(plane_key >> 24) == Surf::kCeiling;
+    if (ceiling && !uniform_ceiling) return -1;
+    const double plane_z = ceiling ? frame_ceiling : 0.0;
+    const double h_rel = plane_z - cam_h, sgn = ceiling ? 1.0 : -1.0;  // sgn * h_rel > 0
+    const double off = ws.along_x ? py - ws.coord : px - ws.coord;       // camera to the wall's plane
+    const double off_abs = std::abs(off), perp_sgn = off > 0 ? 1.0 : -1.0;
+    double gx[4], gy[4], gz[4], g[4];  // corner directions (world frame, unnormalised) and G
+    for (int c = 0; c < 4; ++c) {
+      const Eigen::Vector3d& d = corner_dir[idx[c]];
+      gx[c] = cyaw * d.x() - syaw * d.y();
+      gy[c] = syaw * d.x() + cyaw * d.y();
+      gz[c] = d.z();
+      if (!(sgn * gz[c] > 0)) return -1;  // every ray of the pixel must head towards the plane
+      // The plane point's offset from the wall's plane, times sgn * gz > 0.
+      g[c] = off_abs * sgn * gz[c] + std::abs(h_rel) * (ws.along_x ? gy[c] : gx[c]) * perp_sgn;
+      if ((g[c] > 0) != (corner_pt[idx[c]].key1 == plane_key)) return -1;
+    }
+    const SurfPt& pp = corner_pt[idx[std::find_if(g, g + 4, [](double x) { return x > 0; }) - g]];
+    const SurfPt& wp = corner_pt[idx[std::find_if(g, g + 4, [](double x) { return x <= 0; }) - g]];
+    // Each sample: its side from G, its point on that side's plane (the direction is affine in
+    // the image, stepped along the row), the light map there and the box of texture
+    // coordinates, as PixelPlanes accumulates them, without the plane intersections' search.
+    const double wall_c = ws.coord, wall_p = ws.along_x ? py : px, wall_a = ws.along_x ? px : py;
+    double pu_lo = kInf, pu_hi = -kInf, pv_lo = kInf, pv_hi = -kInf, pe = 0;
+    double wu_lo = kInf, wu_hi = -kInf, wv_lo = kInf, wv_hi = -kInf, we = 0;
+    const int nn = n * n;
+    const double inv_n = 1.0 / n;
+    int on_plane = 0;
+    for (int j = 0; j < n; ++j) {
+      const double fy = (j + 0.5) * inv_n;
+      const double g_l = g[0] + fy * (g[2] - g[0]), g_r = g[1] + fy * (g[3] - g[1]);
+      const double x_l = gx[0] + fy * (gx[2] - gx[0]), x_r = gx[1] + fy * (gx[3] - gx[1]);
+      const double y_l = gy[0] + fy * (gy[2] - gy[0]), y_r = gy[1] + fy * (gy[3] - gy[1]);
+      const double z_l = gz[0] + fy * (gz[2] - gz[0]), z_r = gz[1] + fy * (gz[3] - gz[1]);
+      for (int i = 0; i < n; ++i) {
+        const double fx = (i + 0.5) * inv_n;
+        const double dx = x_l + fx * (x_r - x_l), dy = y_l + fx * (y_r - y_l), dz = z_l + fx * (z_r - z_l);
+        if (g_l + fx * (g_r - g_l) > 0) {
+          const double t = h_rel / dz, x = px + t * dx, y = py + t * dy;
+          pu_lo = std::min(pu_lo, x), pu_hi = std::max(pu_hi, x), pv_lo = std::min(pv_lo, y), pv_hi = std::max(pv_hi, y);
+          pe += cells[GridIndex(x, y)].irr, ++on_plane;
+        } else {
+          const double t = (wall_c - wall_p) / (ws.along_x ? dy : dx);
+          const double along = wall_a + t * (ws.along_x ? dx : dy), z = cam_h + t * dz;
+          wu_lo = std::min(wu_lo, along), wu_hi = std::max(wu_hi, along), wv_lo = std::min(wv_lo, z), wv_hi = std::max(wv_hi, z);
+          we += WallIrradiance(w, along, z);
+        }
+      }
+    }
+    const int pn = on_plane, wn = nn - on_plane;
+    double sum = 0;
+    if (on_plane > 0) {
+      const MatFast& m = mats[pp.mat];
+      const double e = pe / pn;
+      sum += on_plane * (tex[pp.mat].BoxMean(pu_lo, pu_hi, pv_lo, pv_hi) * m.albedo * (ceiling ? world.ambient + kCeilingBounce * e : e) + m.emission);
+    }
+    if (on_plane < nn) {
+      const MatFast& m = mats[wp.mat];
+      sum += (nn - on_plane) * (tex[wp.mat].BoxMean(wu_lo, wu_hi, wv_lo, wv_hi) * (m.albedo * (we / wn) + m.emission));
+    }
     return sum / nn;
   }
 
