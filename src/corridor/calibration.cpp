@@ -145,6 +145,53 @@ LineFit FitImpl(std::span<const double> x, std::span<const double> y, const std:
   return fit;
 }
 
+// The offset b of truth ≈ raw + b: the median of truth - raw, then the mean of the samples
+// within trim_sigma robust σ of it, repeated trim_iterations times. Throws when the readings do
+// not vary (a cue that carries no heading) or too few samples remain.
+double FitOffset(std::span<const double> raw, std::span<const double> truth, const std::string& what,
+                 const LineFitOptions& options, double& inlier_fraction) {
+  if (const std::string bad = options.Validate(); !bad.empty()) throw Error(what + ": " + bad);
+  std::vector<double> d;
+  double mean = 0.0, mean2 = 0.0;
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    if (!std::isfinite(raw[i]) || !std::isfinite(truth[i])) continue;
+    d.push_back(truth[i] - raw[i]);
+    mean += raw[i];
+    mean2 += raw[i] * raw[i];
+  }
+  if (d.size() < options.min_samples)
+    throw Error(what + ": singular fit: only " + std::to_string(d.size()) + " usable samples (need at least " +
+                std::to_string(options.min_samples) + ")");
+  const double n = static_cast<double>(d.size());
+  const double spread = std::sqrt(std::max(0.0, mean2 / n - (mean / n) * (mean / n)));
+  if (!(spread > options.min_x_spread))
+    throw Error(what + ": singular fit: the readings do not vary (spread " + Num(spread) + " over " +
+                std::to_string(d.size()) + " samples)");
+  double offset = Median(d);
+  std::size_t kept = d.size();
+  for (int iter = 0; iter < options.trim_iterations; ++iter) {
+    std::vector<double> abs_res;
+    abs_res.reserve(d.size());
+    for (double v : d) abs_res.push_back(std::abs(v - offset));
+    const double sigma = 1.4826 * Median(abs_res);
+    if (!(sigma > 0.0)) {  // more than half the samples agree exactly: they are the inliers
+      kept = static_cast<std::size_t>(std::count(abs_res.begin(), abs_res.end(), 0.0));
+      break;
+    }
+    double sum = 0.0;
+    std::size_t m = 0;
+    for (double v : d)
+      if (std::abs(v - offset) <= options.trim_sigma * sigma) sum += v, ++m;
+    if (m < options.min_samples) break;
+    const double next = sum / static_cast<double>(m);
+    kept = m;
+    if (next == offset) break;
+    offset = next;
+  }
+  inlier_fraction = static_cast<double>(kept) / static_cast<double>(d.size());
+  return offset;
+}
+
 void RequireFinite(double v, const std::string& what) {
   if (!std::isfinite(v)) throw Error(what + ": the fit produced a non-finite value");
 }
@@ -199,14 +246,23 @@ HeadingFit FitHeading(std::span<const HeadingSample> samples, const std::string&
   if (!samples.empty() && truth_max - truth_min < options.bin_width_deg)
     throw Error(what + ": singular fit: every sample has the same true heading (" + Num(truth_min) +
                 " deg); calibration needs sequences that sweep the heading");
-  const LineFit line = FitLine(raw, truth, what, options.line);
   HeadingFit fit;
-  fit.scale = line.slope;
-  fit.bias_deg = line.intercept;
+  if (options.fit_scale) {
+    // reading = a · truth + b, so calibrated = (reading - b) / a.
+    const LineFit line = FitLine(truth, raw, what, options.line);
+    if (!(line.slope > 0.0))
+      throw Error(what + ": the readings do not grow with the true heading (slope " + Num(line.slope) +
+                  "); the cue cannot be calibrated");
+    fit.scale = 1.0 / line.slope;
+    fit.bias_deg = -line.intercept / line.slope;
+    fit.inlier_fraction = static_cast<double>(line.inliers) / static_cast<double>(line.samples);
+  } else {
+    fit.scale = 1.0;
+    fit.bias_deg = FitOffset(raw, truth, what, options.line, fit.inlier_fraction);
+  }
   RequireFinite(fit.scale, what);
   RequireFinite(fit.bias_deg, what);
   fit.samples = samples.size();
-  fit.inlier_fraction = static_cast<double>(line.inliers) / static_cast<double>(line.samples);
 
   double sum = 0.0, sum2 = 0.0;
   std::map<long long, std::pair<std::size_t, double>> bins;  // bin -> (count, Σ err²)

@@ -86,12 +86,38 @@ TEST(FitHeading, RecoversScaleBiasAndReliableRange) {
       if (std::abs(h) > 12 && rep < 2) raw = -raw * 1.5;  // wrong side, gross errors
       s.push_back({static_cast<double>(h), raw});
     }
-  const HeadingFit f = FitHeading(s, "entropy");
+  HeadingFitOptions free_scale;
+  free_scale.fit_scale = true;
+  const HeadingFit f = FitHeading(s, "entropy", free_scale);
   EXPECT_NEAR(f.scale, 0.9, 1e-9);
   EXPECT_NEAR(f.bias_deg, 1.5, 1e-9);
   EXPECT_NEAR(f.reliable_min_deg, -12.5, 1e-9);
   EXPECT_NEAR(f.reliable_max_deg, 12.5, 1e-9);
   EXPECT_GT(f.rmse_deg, 5.0);  // the outliers count in the reported error
+}
+
+TEST(FitHeading, CameraDegreesKeepScaleOneAndFitTheBiasPastGrossErrors) {
+  // Readings in camera degrees, offset by a 2.5° mount yaw, with a third of them grossly wrong
+  // (a cue peaking on the near wall): the bias is recovered and the scale stays 1, where a free
+  // least-squares scale of truth on reading would shrink towards 0.
+  std::vector<HeadingSample> s;
+  for (int rep = 0; rep < 3; ++rep)
+    for (int h = -20; h <= 20; ++h) {
+      const double raw = (rep == 0 && h % 2 == 0) ? -25.0 + (h + 20) % 7 : h - 2.5;
+      s.push_back({static_cast<double>(h), raw});
+    }
+  const HeadingFit f = FitHeading(s, "symmetry");
+  EXPECT_EQ(f.scale, 1.0);
+  EXPECT_NEAR(f.bias_deg, 2.5, 1e-9);
+  EXPECT_NEAR(f.inlier_fraction, 102.0 / 123.0, 1e-9);
+}
+
+TEST(FitHeading, FreeScaleRejectsReadingsThatFallWithTheHeading) {
+  std::vector<HeadingSample> s;
+  for (int h = -20; h <= 20; ++h) s.push_back({static_cast<double>(h), -0.8 * h});
+  HeadingFitOptions free_scale;
+  free_scale.fit_scale = true;
+  EXPECT_THROW(FitHeading(s, "bright", free_scale), Error);
 }
 
 TEST(FitHeading, RejectsAllHeadingsEqual) {

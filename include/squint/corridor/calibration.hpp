@@ -55,6 +55,13 @@ struct HeadingSample {
 
 struct HeadingFitOptions {
   LineFitOptions line;
+  // false (default): the readings are camera-model degrees (column -> atan((u - cx) / fx)), so
+  // the scale is physics, fixed at 1, and only the bias (mount yaw, a cue's offset) is fitted:
+  // the trimmed mean of truth - reading. A free scale fitted on frames where a cue is grossly
+  // wrong shrinks towards 0 and would flatten every good reading. true: also fit the scale, by
+  // regressing the reading on the truth (the noise is in the reading, not in the ground truth),
+  // for readings without a camera model (fallback degrees per column).
+  bool fit_scale = false;
   // Width of the true-heading bins over which the reliable range is judged (paper: 1°).
   double bin_width_deg = 1.0;
   // A bin is reliable when the calibrated RMSE over it is at most this ...
@@ -80,7 +87,8 @@ struct HeadingFit {
   std::size_t samples = 0;
 };
 
-// Fits truth ≈ scale · raw + bias. Throws squint::Error("<what>: ...") when singular.
+// Fits truth ≈ scale · raw + bias (scale fixed at 1 unless options.fit_scale; see there).
+// Throws squint::Error("<what>: ...") when singular.
 HeadingFit FitHeading(std::span<const HeadingSample> samples, const std::string& what,
                       const HeadingFitOptions& options = {});
 
