@@ -370,8 +370,15 @@ Command Explorer::AlignStep(const Percept& p) {
     return {};
   }
   axis_yaw_odom_ = WrapPi(p.odom_T_robot.yaw - DegToRad(median));
-  map_yaw_offset_ = axis_yaw_odom_;
-  dir_ = 0;
+  if (rescan_) {
+    // A recovery scan: keep the map frame, take the map direction nearest to the new axis.
+    rescan_ = false;
+    dir_ = DirectionOfYaw(WrapPi(axis_yaw_odom_ - map_yaw_offset_));
+    map_yaw_offset_ = WrapPi(axis_yaw_odom_ - YawOfDirection(dir_));
+  } else {
+    map_yaw_offset_ = axis_yaw_odom_;
+    dir_ = 0;
+  }
   Emit(ExploreEvent::Kind::kScanDone, p, 0,
        Format("set off at odometry yaw %.0f deg after %d alignment rounds", RadToDeg(axis_yaw_odom_), align_round_));
   StartFollow(p);
@@ -548,9 +555,12 @@ Command Explorer::BackOffStep(const Percept& p) {
   // off (the node's position or the branch was wrong): that branch is a wall after all.
   ++ends_;
   last_ref_entropy_ = ReferenceEntropy();
-  const bool at_departure = sonar_seen_ && travel_in_corridor_m_ < opt_.map.merge_radius_m;
-  if (at_departure) map_.CancelDeparture();
-  node_ = map_.Arrive(map_pose_.Translation(), dir_);
+  const bool at_departure = sonar_seen_ && node_ >= 0 && travel_in_corridor_m_ < 0.5 * opt_.map.merge_radius_m;
+  if (at_departure) {
+    map_.CancelDeparture();  // still at the node it set off from
+  } else {
+    node_ = map_.Arrive(map_pose_.Translation(), dir_);
+  }
   map_.SetBranch(node_, dir_, Branch::kWall, at_departure);
   state_ = ExploreState::kProbe;
   probe_phase_ = 0;
@@ -600,6 +610,23 @@ Command Explorer::ProbeStep(const Percept& p) {
 void Explorer::Decide(const Percept& p) {
   const TopoNode& node = map_.Nodes()[node_];
   int next = map_.ChooseBranch(node_, dir_);
+  if (next < 0 && sonar_seen_) {
+    // Nothing passable here: the corridor frame is probably lost (a wrong axis makes every
+    // direction look blocked). Look all around again: a full turn re-acquires the axis from the
+    // fused headings and picks the freest of its four directions.
+    map_.CancelDeparture();
+    ++turns_;
+    Emit(ExploreEvent::Kind::kTurn, p, 0, "no passable branch: full turn to re-acquire the corridor");
+    rescan_ = true;
+    state_ = ExploreState::kScan;
+    scan_axis_mod90_.clear();
+    std::fill(scan_sum_.begin(), scan_sum_.end(), 0.0);
+    std::fill(scan_count_.begin(), scan_count_.end(), 0);
+    scan_turned_ = 0.0;
+    scan_start_yaw_ = scan_prev_yaw_ = p.odom_T_robot.yaw;
+    scan_rotating_ = true;
+    return;
+  }
   if (next < 0) next = Opposite(dir_);
   const int rel = (next - dir_ + 4) & 3;
   const int turn_deg = rel == 0 ? 0 : rel == 1 ? 90 : rel == 3 ? -90 : 180;

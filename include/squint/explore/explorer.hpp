@@ -246,7 +246,7 @@ class Explorer {
   bool sonar_seen_ = false;
   double last_scan_yaw_ = 0.0;
   long speed_limited_ = 0;
-  int probe_wait_scan_ = 0;
+  bool rescan_ = false;  // the scan under way is a recovery (keeps the map frame)
 };
 
 }  // namespace squint::explore
