@@ -88,6 +88,12 @@ TEST(ObstaclesCli, BadInputsGiveOneLineErrors) {
   if (fs::exists(Sequence())) {
     EXPECT_EQ(RunSquint("obstacles " + Sequence().string() + " --detector surf --out /tmp/x.csv", &err), 1);
     EXPECT_NE(err.find("--detector"), std::string::npos) << err;
+    const fs::path never = fs::temp_directory_path() / "squint_eval_obstacles_bad_lambda";
+    fs::remove_all(never);
+    EXPECT_EQ(RunSquint("eval obstacles " + Sequence().string() + " --unclassified-cost -1 --out " + never.string(), &err),
+              1);
+    EXPECT_NE(err.find("--unclassified-cost"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(never));  // no partial output
   }
 }
 
