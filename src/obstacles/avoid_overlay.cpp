@@ -42,8 +42,11 @@ cv::Mat DrawPolarMap(const PolarMap& map, std::span<const ContactPoint> contacts
     std::vector<cv::Point> poly = {to_panel(0, 0)};
     for (double a = s.start_deg; a <= s.end_deg + 1e-9; a += 1.0)
       poly.push_back(to_panel(map.roi_radius_m * std::cos(DegToRad(a)), map.roi_radius_m * std::sin(DegToRad(a))));
+    // Free with floor seen (ground features in the ROI) green; free only for want of contacts
+    // pale green; occupied red; unseen grey.
     const cv::Scalar fill = s.state == SectorState::kOccupied ? cv::Scalar(170, 170, 255)
-                            : s.state == SectorState::kFree   ? cv::Scalar(215, 245, 215)
+                            : s.state == SectorState::kFree   ? (s.ground > 0 ? cv::Scalar(190, 240, 190)
+                                                                              : cv::Scalar(228, 242, 228))
                                                               : cv::Scalar(225, 225, 225);
     cv::fillConvexPoly(panel, poly, fill, cv::LINE_AA);
     cv::polylines(panel, poly, true, cv::Scalar(190, 190, 190), 1, cv::LINE_AA);

@@ -39,7 +39,10 @@ struct PolarSector {
   bool in_view = false;     // the floor at the ROI radius is inside the image across the sector
   SectorState state = SectorState::kUnseen;
   int contacts = 0;                // contact points inside the ROI
-  int ground = 0;                  // ground features' floor points inside the ROI
+  // Ground features' floor points inside the ROI (beyond min_ground_range_m): floor evidence. A
+  // free sector with none is free only for want of contacts (unknown, honestly); with
+  // free_needs_ground it is unseen instead.
+  int ground = 0;
   std::optional<double> range_m;   // nearest contact inside the ROI
   std::optional<double> nearest_m; // nearest contact at any range (the "visual sonar" reading)
 };
