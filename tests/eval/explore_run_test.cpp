@@ -69,6 +69,43 @@ TEST(ExploreRun, ShortCorridorReachesTheFarEndWithoutCollision) {
   EXPECT_EQ(run.trace.size(), 1800u);
 }
 
+// The same corridor with a box standing left of the centre line (0.9 m of free floor to its right).
+constexpr const char* kBoxInCorridor = R"(
+format: squint-world/1
+name: boxed
+camera: {height_m: 0.6, pitch_deg: -3.0, hfov_deg: 60.0, width: 320, height: 240}
+robot: {radius_m: 0.25, max_speed_mps: 0.6, max_turn_rate_dps: 90, start: [1.5, 0.0, 0.0]}
+corridors:
+  - name: main
+    from: [0, 0]
+    to: [14, 0]
+    width_m: 2.0
+    height_m: 2.8
+    floor: tiles
+    wall: paint
+    lights: {rows: centre, spacing_m: 3.0, size_m: [1.2, 0.3]}
+obstacles:
+  - {type: box, at: [6.0, 0.35], size: [0.5, 0.6, 0.7]}
+)";
+
+TEST(ExploreRun, VisualSonarKeepsClearOfABoxAndOfAWallFacedAtTheStart) {
+  const sim::World boxed = sim::ParseWorld(kBoxInCorridor, "test:boxed");
+  ExploreRunOptions opt;
+  opt.minutes = 1.0;
+  opt.keep_trace = false;
+  const ExploreRunResult run = RunExplore(boxed, opt);
+  EXPECT_EQ(run.summary.collisions, 0) << run.summary.outcome;
+  double max_x = 0.0;
+  for (const Pose2& p : run.true_path) max_x = std::max(max_x, p.x);
+  EXPECT_GT(max_x, 7.0) << "did not get past the box: " << run.summary.outcome;
+  // Facing the side wall 0.6 m away (its disc 0.35 m from it), in the plain short corridor.
+  const sim::World world = sim::ParseWorld(kShortCorridor, "test:short");
+  opt.start = Pose2{5.0, 0.4, kPi / 2};
+  const ExploreRunResult facing = RunExplore(world, opt);
+  EXPECT_EQ(facing.summary.collisions, 0) << facing.summary.outcome;
+  EXPECT_TRUE(facing.summary.proceeded) << facing.summary.outcome;
+}
+
 TEST(ExploreRun, SameSeedSameRun) {
   const sim::World world = sim::ParseWorld(kShortCorridor, "test:short");
   ExploreRunOptions opt;
