@@ -297,7 +297,6 @@ std::string CalibrateOptions::Validate() const {
   if (!fit_heading && !fit_distance) return "nothing to fit (both heading and distance are off)";
   if (std::string s = heading.Validate(); !s.empty()) return "heading: " + s;
   if (std::string s = distance.Validate(); !s.empty()) return "distance: " + s;
-  if (!(distance_weight_at_m > 0.0)) return "distance_weight_at_m must be positive";
   return {};
 }
 
@@ -378,7 +377,8 @@ CorridorCalibrationFile FitCorridorCalibration(const std::vector<CorridorRun>& r
       corridor::HeadingCueOptions& o = out.options.heading.cues[c];
       o.scale = fit.scale;
       o.bias_deg = fit.bias_deg;
-      o.weight = 1.0 / (h.error_std_deg * h.error_std_deg);
+      // A cue the base options switch off (weight 0) stays off: it is fitted for the record only.
+      if (o.enabled && o.weight > 0.0) o.weight = 1.0 / (h.error_std_deg * h.error_std_deg);
     }
   }
   if (options.fit_distance) {
@@ -419,8 +419,13 @@ CorridorCalibrationFile FitCorridorCalibration(const std::vector<CorridorRun>& r
       d.sigma_slope = fit.spread.sigma_slope;
       d.inlier_fraction = fit.inlier_fraction;
       d.samples = fit.samples;
-      const double sigma = fit.spread.Sigma(options.distance_weight_at_m);
-      out.options.distance.weights[c] = 1.0 / (sigma * sigma);
+      // Fusion weight 1/σ0² with σ growing as σ0 · (1 + growth · d); a cue the base options
+      // switch off stays off.
+      const double sigma0 = std::max(fit.spread.sigma0_m, 0.05);
+      if (out.options.distance.enabled[c] && out.options.distance.weights[c] > 0.0) {
+        out.options.distance.weights[c] = 1.0 / (sigma0 * sigma0);
+        out.options.distance.error_growth_per_m[c] = fit.spread.sigma_slope / sigma0;
+      }
     }
   }
   if (const std::string bad = out.options.Validate(); !bad.empty())

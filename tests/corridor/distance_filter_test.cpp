@@ -113,8 +113,11 @@ TEST(Gate, SlowDriftAccumulatesAgainstTheLastProcessedFrame) {
   // Entropy 1.000, 1.004, 1.008, ...: each step is 0.4 % of the reference.
   GateOptions paper;
   paper.compare_with_last_processed = false;
+  paper.max_skipped_frames = 0;
   RapidPerceptionGate previous_frame(paper);
-  RapidPerceptionGate last_processed{GateOptions{}};
+  GateOptions accumulate = paper;
+  accumulate.compare_with_last_processed = true;
+  RapidPerceptionGate last_processed(accumulate);
   std::vector<bool> a, b;
   for (int i = 0; i < 10; ++i) {
     a.push_back(previous_frame.Update(1.0 + 0.004 * i));

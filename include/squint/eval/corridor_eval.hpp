@@ -131,9 +131,6 @@ struct CalibrateOptions {
   bool fit_distance = true;
   corridor::HeadingFitOptions heading;
   corridor::DistanceFitOptions distance;
-  // Distance at which a distance cue's σ(d̂) sets its scalar fusion weight 1/σ² (the middle of
-  // the range the robot must judge: stopping at the end).
-  double distance_weight_at_m = 5.0;
   std::string Validate() const;
 };
 
