@@ -43,10 +43,11 @@ TEST(AvoidTest, BoxAheadIsAvoided) {
   ASSERT_GT(r.contacts.size(), 20u) << "and the base between them";
   // The sectors across the box's front (4.4° to 21.0°) are occupied, those clear of it are not.
   for (const PolarSector& s : r.map->sectors) {
-    if (s.end_deg > 4.4 + 0.5 && s.start_deg < 21.0 - 0.5)
+    if (s.end_deg > 4.4 + 0.5 && s.start_deg < 21.0 - 0.5) {
       EXPECT_EQ(s.state, SectorState::kOccupied) << s.centre_deg;
-    else if (s.end_deg < 4.4 - 1.0 || s.start_deg > 21.0 + 1.0)
+    } else if (s.end_deg < 4.4 - 1.0 || s.start_deg > 21.0 + 1.0) {
       EXPECT_NE(s.state, SectorState::kOccupied) << s.centre_deg;
+    }
   }
   ASSERT_FALSE(r.decision.stop);
   // The steering ray passes both true corners with at least the robot's half width plus margin.

@@ -39,8 +39,12 @@ TEST(PolarMapTest, InViewFollowsTheFieldOfView) {
   // edge on the floor at 1.5 m is a little smaller because the camera looks down.
   const double half_fov = RadToDeg(std::atan(128.0 / cam.fx));
   for (const PolarSector& s : m.Map().sectors) {
-    if (std::max(std::abs(s.start_deg), std::abs(s.end_deg)) <= 25.0) EXPECT_TRUE(s.in_view) << s.centre_deg;
-    if (std::max(std::abs(s.start_deg), std::abs(s.end_deg)) > half_fov) EXPECT_FALSE(s.in_view) << s.centre_deg;
+    if (std::max(std::abs(s.start_deg), std::abs(s.end_deg)) <= 25.0) {
+      EXPECT_TRUE(s.in_view) << s.centre_deg;
+    }
+    if (std::max(std::abs(s.start_deg), std::abs(s.end_deg)) > half_fov) {
+      EXPECT_FALSE(s.in_view) << s.centre_deg;
+    }
   }
 }
 
