@@ -1,9 +1,14 @@
 // Closed-loop exploration speed: one control step (render the 32×24 glance, corridor perception
-// with the gate, explorer, robot step) in the built-in default world; and the explorer alone.
+// with the gate, explorer, robot step) in the built-in default world; the explorer alone; and the
+// visual sonar (one 64×31 cropped frame, rendered outside the loop) with its memory update.
 #include <benchmark/benchmark.h>
+
+#include <cmath>
 
 #include "squint/corridor/perceiver.hpp"
 #include "squint/explore/explorer.hpp"
+#include "squint/explore/obstacle_memory.hpp"
+#include "squint/explore/visual_sonar.hpp"
 #include "squint/sim/renderer.hpp"
 #include "squint/sim/robot.hpp"
 #include "squint/sim/world.hpp"
@@ -63,5 +68,29 @@ void BM_ExplorerStep(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_ExplorerStep)->Name("explorer_step_us")->Unit(benchmark::kMicrosecond);
+
+void BM_VisualSonar(benchmark::State& state) {
+  const sim::World world = sim::LoadWorld("default");
+  CameraModel cam = world.camera.Model().Scaled(64, 48);
+  const int crop = static_cast<int>(std::floor(cam.HorizonRow())) - 4;
+  cam.height -= crop;
+  cam.cy -= crop;
+  sim::RenderOptions ro;
+  ro.noise_sigma = 2.0;
+  sim::Renderer renderer(world, cam, ro);
+  const cv::Mat image = renderer.Render(Pose2{10.0, 0.2, 0.1});
+  const GrayView view{image.data, image.cols, image.rows, static_cast<std::ptrdiff_t>(image.step)};
+  explore::VisualSonar sonar(cam);
+  explore::ObstacleMemory memory;
+  double t = 0.0;
+  for (auto _ : state) {
+    const auto& scan = sonar.Process(view);
+    memory.Update(scan, Pose2{10.0, 0.2, 0.1}, t, sonar.NearBlindRangeM());
+    memory.Gather(Pose2{10.0, 0.2, 0.1}, t);
+    benchmark::DoNotOptimize(memory.FreeTravel(Pose2{10.0, 0.2, 0.1}, 0.1, 0.35, 2.0));
+    t += 0.1;
+  }
+}
+BENCHMARK(BM_VisualSonar)->Name("visual_sonar_scan_us")->Unit(benchmark::kMicrosecond);
 
 }  // namespace
