@@ -120,6 +120,9 @@ void Register(CLI::App& root) {
   cmd->add_option("--reliable-max-rmse-deg", opt->fit.heading.reliable_max_rmse_deg,
                   "A true-heading bin belongs to a cue's reliable range when its RMSE is at most this")
       ->capture_default_str();
+  cmd->add_flag("--heading-weights-from-variance", opt->fit.heading_weights_from_variance,
+                "Set each heading cue's fusion weight to 1/sigma^2 of its calibrated error (the paper's rule; "
+                "default: keep the base options' weights)");
   cmd->callback([opt] { Run(*opt); });
 }
 

@@ -267,7 +267,9 @@ CorridorRun RunCorridorSequence(const io::Sequence& sequence, const CorridorRunO
     for (int c = 0; c < kHeadingCueCount; ++c) {
       if (!f.heading_deg[c]) continue;
       const HeadingCueCalibration& hc = options.record.heading[c];
-      if (*f.heading_deg[c] < hc.reliable_min_deg || *f.heading_deg[c] > hc.reliable_max_deg) continue;
+      if (options.kalman_reliable_ranges_only &&
+          (*f.heading_deg[c] < hc.reliable_min_deg || *f.heading_deg[c] > hc.reliable_max_deg))
+        continue;
       kalman.UpdateHeading(*f.heading_deg[c], hc.error_std_deg);
     }
     for (int c = 0; c < kDistanceCueCount; ++c) {
@@ -378,7 +380,8 @@ CorridorCalibrationFile FitCorridorCalibration(const std::vector<CorridorRun>& r
       o.scale = fit.scale;
       o.bias_deg = fit.bias_deg;
       // A cue the base options switch off (weight 0) stays off: it is fitted for the record only.
-      if (o.enabled && o.weight > 0.0) o.weight = 1.0 / (h.error_std_deg * h.error_std_deg);
+      if (o.enabled && o.weight > 0.0 && options.heading_weights_from_variance)
+        o.weight = 1.0 / (h.error_std_deg * h.error_std_deg);
     }
   }
   if (options.fit_distance) {

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -112,7 +114,9 @@ std::vector<CorridorRun> PlantedRuns() {
 }
 
 TEST(FitCorridorCalibration, RecoversPlantedParameters) {
-  const CorridorCalibrationFile f = FitCorridorCalibration(PlantedRuns(), {"a", "b"}, {}, {});
+  CalibrateOptions free_scale;
+  free_scale.heading.fit_scale = true;  // the default fits a bias only (scale 1)
+  const CorridorCalibrationFile f = FitCorridorCalibration(PlantedRuns(), {"a", "b"}, {}, free_scale);
   for (int k = 0; k < corridor::kHeadingCueCount; ++k) {
     EXPECT_NEAR(f.options.heading.cues[k].scale, 0.8 + 0.1 * k, 1e-9) << k;
     EXPECT_NEAR(f.options.heading.cues[k].bias_deg, (k - 2) * 0.5, 1e-9) << k;
@@ -124,6 +128,32 @@ TEST(FitCorridorCalibration, RecoversPlantedParameters) {
   EXPECT_NEAR(f.options.distance.alpha3, -0.02, 1e-12);
   EXPECT_EQ(f.record.fitted_on, (std::vector<std::string>{"a", "b"}));
   EXPECT_TRUE(f.options.Validate().empty());
+}
+
+TEST(FitCorridorCalibration, FusionWeightsFromVarianceOnlyWhenAskedAndNeverForSwitchedOffCues) {
+  corridor::CorridorOptions base;
+  base.heading.cues[1].weight = 0.0;  // switched off: stays off
+  base.distance.enabled[2] = false;
+  const corridor::CorridorOptions before = base;
+  const CorridorCalibrationFile kept = FitCorridorCalibration(PlantedRuns(), {}, base, {});
+  CalibrateOptions variance;
+  variance.heading_weights_from_variance = true;
+  const CorridorCalibrationFile fitted = FitCorridorCalibration(PlantedRuns(), {}, base, variance);
+  for (int k = 0; k < corridor::kHeadingCueCount; ++k) {
+    EXPECT_EQ(kept.options.heading.cues[k].weight, before.heading.cues[k].weight) << k;
+    const double sigma = fitted.record.heading[k].error_std_deg;
+    const double expected = before.heading.cues[k].weight > 0.0 ? 1.0 / (sigma * sigma) : 0.0;
+    EXPECT_DOUBLE_EQ(fitted.options.heading.cues[k].weight, expected) << k;
+  }
+  // Distance: weight 1/σ0², growth slope/σ0 for enabled cues; the disabled one is untouched.
+  for (int c = 0; c < 2; ++c) {
+    const DistanceCueCalibration& d = kept.record.distance[c];
+    const double s0 = std::max(d.sigma0_m, 0.05);
+    EXPECT_DOUBLE_EQ(kept.options.distance.weights[c], 1.0 / (s0 * s0)) << c;
+    EXPECT_DOUBLE_EQ(kept.options.distance.error_growth_per_m[c], d.sigma_slope / s0) << c;
+  }
+  EXPECT_EQ(kept.options.distance.weights[2], before.distance.weights[2]);
+  EXPECT_FALSE(kept.options.distance.enabled[2]);
 }
 
 TEST(FitCorridorCalibration, RefusesRunsWithoutTruthOrWithOneHeading) {
