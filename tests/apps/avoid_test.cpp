@@ -11,26 +11,14 @@
 #include <string>
 #include <vector>
 
+#include "cli_run.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Output {
-  int status = -1;
-  std::string text;  // stdout and stderr
-};
-
-Output RunSquint(const std::string& args) {
-  Output out;
-  const std::string cmd = std::string(SQUINT_BINARY) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return out;
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), buf.size(), pipe)) out.text += buf.data();
-  const int rc = pclose(pipe);
-  out.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  return out;
-}
+using squint::test::CliResult;
+using squint::test::RunSquint;
 
 std::vector<std::string> Lines(const fs::path& p) {
   std::ifstream in(p);
@@ -50,8 +38,8 @@ const fs::path kSequence = fs::path(SQUINT_SHARED_DATA_DIR) / "obstacles-2-03";
 TEST(AvoidCommandTest, WritesPolarAndSteeringTables) {
   if (!fs::exists(kSequence)) GTEST_SKIP() << "no shared data at " << kSequence;
   const fs::path out = TempDir("tables");
-  const Output r = RunSquint("avoid " + kSequence.string() + " --out " + out.string());
-  ASSERT_EQ(r.status, 0) << r.text;
+  const CliResult r = RunSquint("avoid " + kSequence.string() + " --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.all();
   const auto polar = Lines(out / "polar.csv");
   const auto steering = Lines(out / "steering.csv");
   ASSERT_FALSE(polar.empty());
@@ -90,17 +78,17 @@ TEST(AvoidCommandTest, WritesPolarAndSteeringTables) {
 
 TEST(AvoidCommandTest, BadInputGivesOneLineAndNoOutput) {
   const fs::path out = TempDir("bad");
-  Output r = RunSquint("avoid /nonexistent/sequence --out " + out.string());
-  EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.text.find("squint: error:"), std::string::npos) << r.text;
+  CliResult r = RunSquint("avoid /nonexistent/sequence --out " + out.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.all().find("squint: error:"), std::string::npos) << r.all();
   EXPECT_FALSE(fs::exists(out));
 
   const fs::path opts = fs::temp_directory_path() / ("squint-avoid-test-opts-" + std::to_string(::getpid()) + ".yaml");
   std::ofstream(opts) << "avoid:\n  polar: {sector_deg: 7}\n";
   r = RunSquint("avoid " + kSequence.string() + " --options " + opts.string() + " --out " + out.string());
-  EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.text.find(opts.string()), std::string::npos) << r.text;
-  EXPECT_NE(r.text.find("sector_deg"), std::string::npos) << r.text;
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.all().find(opts.string()), std::string::npos) << r.all();
+  EXPECT_NE(r.all().find("sector_deg"), std::string::npos) << r.all();
   EXPECT_FALSE(fs::exists(out));
   fs::remove(opts);
 }
@@ -114,20 +102,20 @@ TEST(AvoidCommandTest, OneOptionsFileServesObstaclesAndAvoid) {
   const fs::path opts = dir / "options.yaml";
   std::ofstream(opts) << "ipt:\n  features: {detector: sift}\n  min_translation_m: 0.005\n"
                          "avoid:\n  polar: {roi_radius_m: 1.5}\n  gap: {margin_m: 0.05}\n";
-  Output r = RunSquint("obstacles " + kSequence.string() + " --options " + opts.string() + " --out " +
+  CliResult r = RunSquint("obstacles " + kSequence.string() + " --options " + opts.string() + " --out " +
                        (dir / "features.csv").string());
-  EXPECT_EQ(r.status, 0) << r.text;
+  EXPECT_EQ(r.code, 0) << r.all();
   EXPECT_TRUE(fs::exists(dir / "features.csv"));
   r = RunSquint("avoid " + kSequence.string() + " --no-overlays --options " + opts.string() + " --out " +
                 (dir / "avoid").string());
-  EXPECT_EQ(r.status, 0) << r.text;
+  EXPECT_EQ(r.code, 0) << r.all();
   EXPECT_TRUE(fs::exists(dir / "avoid" / "steering.csv"));
   // A mistake in the IPT section is named for both commands.
   std::ofstream(opts) << "ipt:\n  features: {detector: surf}\navoid: {}\n";
   for (const std::string cmd : {"obstacles", "avoid"}) {
     r = RunSquint(cmd + " " + kSequence.string() + " --options " + opts.string() + " --out " + (dir / "x").string());
-    EXPECT_EQ(r.status, 1) << cmd;
-    EXPECT_NE(r.text.find("(section ipt): `features.detector`"), std::string::npos) << cmd << ": " << r.text;
+    EXPECT_EQ(r.code, 1) << cmd;
+    EXPECT_NE(r.all().find("(section ipt): `features.detector`"), std::string::npos) << cmd << ": " << r.all();
     EXPECT_FALSE(fs::exists(dir / "x")) << cmd;
   }
   fs::remove_all(dir);
@@ -136,9 +124,9 @@ TEST(AvoidCommandTest, OneOptionsFileServesObstaclesAndAvoid) {
 TEST(EvalAvoidCommandTest, ReportsTheTargets) {
   if (!fs::exists(kSequence)) GTEST_SKIP() << "no shared data at " << kSequence;
   const fs::path out = TempDir("eval");
-  const Output r = RunSquint("eval avoid " + kSequence.string() + " --out " + out.string());
-  ASSERT_EQ(r.status, 0) << r.text;
-  EXPECT_NE(r.text.find("targets: sector agreement"), std::string::npos) << r.text;
+  const CliResult r = RunSquint("eval avoid " + kSequence.string() + " --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.all();
+  EXPECT_NE(r.all().find("targets: sector agreement"), std::string::npos) << r.all();
   EXPECT_TRUE(fs::exists(out / "avoid_eval.json"));
   EXPECT_TRUE(fs::exists(out / "frames.csv"));
   fs::remove_all(out);

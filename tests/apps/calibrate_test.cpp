@@ -12,29 +12,14 @@
 
 #include "squint/io/sequence.hpp"
 
+#include "cli_run.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = -1;
-  std::string out;  // stdout and stderr
-};
-
-Result RunSquint(const std::string& args) {
-  const fs::path log = fs::temp_directory_path() / ("squint_calibrate_test-" + std::to_string(::getpid()) + ".log");
-  const std::string cmd = std::string(SQUINT_BINARY) + " " + args + " > " + log.string() + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  Result r;
-  r.code = WEXITSTATUS(status);
-  std::ifstream in(log);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  r.out = ss.str();
-  in.close();
-  fs::remove(log);
-  return r;
-}
+using squint::test::CliResult;
+using squint::test::RunSquint;
 
 // A small sequence of textured frames; `heading`/`dist` give each frame's truth (none = column absent).
 fs::path WriteSequence(const std::string& name, bool with_heading, bool constant_heading, bool constant_dist) {
@@ -69,9 +54,9 @@ TEST(CalibrateCli, MissingHeadingColumnIsAnErrorAndWritesNothing) {
   const fs::path seq = WriteSequence("nohead", false, false, false);
   const fs::path out = fs::temp_directory_path() / "squint_calibrate_test_nohead.yaml";
   fs::remove(out);
-  const Result r = RunSquint("calibrate " + seq.string() + " --out " + out.string());
-  EXPECT_EQ(r.code, 1) << r.out;
-  EXPECT_NE(r.out.find("frames.csv: no gt_heading_deg values"), std::string::npos) << r.out;
+  const CliResult r = RunSquint("calibrate " + seq.string() + " --out " + out.string());
+  EXPECT_EQ(r.code, 1) << r.all();
+  EXPECT_NE(r.all().find("frames.csv: no gt_heading_deg values"), std::string::npos) << r.all();
   EXPECT_FALSE(fs::exists(out));
   fs::remove_all(seq);
 }
@@ -80,9 +65,9 @@ TEST(CalibrateCli, AllHeadingsEqualIsSingular) {
   const fs::path seq = WriteSequence("onehead", true, true, false);
   const fs::path out = fs::temp_directory_path() / "squint_calibrate_test_onehead.yaml";
   fs::remove(out);
-  const Result r = RunSquint("calibrate " + seq.string() + " --only heading --out " + out.string());
-  EXPECT_EQ(r.code, 1) << r.out;
-  EXPECT_NE(r.out.find("singular calibration: the true headings"), std::string::npos) << r.out;
+  const CliResult r = RunSquint("calibrate " + seq.string() + " --only heading --out " + out.string());
+  EXPECT_EQ(r.code, 1) << r.all();
+  EXPECT_NE(r.all().find("singular calibration: the true headings"), std::string::npos) << r.all();
   EXPECT_FALSE(fs::exists(out));
   fs::remove_all(seq);
 }
@@ -91,9 +76,9 @@ TEST(CalibrateCli, OneDistanceOnlyIsSingular) {
   const fs::path seq = WriteSequence("onedist", true, false, true);
   const fs::path out = fs::temp_directory_path() / "squint_calibrate_test_onedist.yaml";
   fs::remove(out);
-  const Result r = RunSquint("calibrate " + seq.string() + " --only distance --out " + out.string());
-  EXPECT_EQ(r.code, 1) << r.out;
-  EXPECT_NE(r.out.find("singular calibration: the true distances"), std::string::npos) << r.out;
+  const CliResult r = RunSquint("calibrate " + seq.string() + " --only distance --out " + out.string());
+  EXPECT_EQ(r.code, 1) << r.all();
+  EXPECT_NE(r.all().find("singular calibration: the true distances"), std::string::npos) << r.all();
   EXPECT_FALSE(fs::exists(out));
   fs::remove_all(seq);
 }
@@ -104,18 +89,18 @@ TEST(CalibrateCli, SharedDataCalibrationIsReadBackAndOverlapWarned) {
   const fs::path out = fs::temp_directory_path() / "squint_calibrate_test_data.yaml";
   fs::remove(out);
   const std::string seqs = (data / "orient-1-00").string() + " " + (data / "drive-3-00c").string();
-  Result r = RunSquint("calibrate " + seqs + " --out " + out.string());
-  ASSERT_EQ(r.code, 0) << r.out;
+  CliResult r = RunSquint("calibrate " + seqs + " --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.all();
   ASSERT_TRUE(fs::exists(out));
   r = RunSquint("perceive " + (data / "orient-1-01").string() + " --calib " + out.string() + " --out " +
                 (fs::temp_directory_path() / "squint_calibrate_test.csv").string());
-  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(r.code, 0) << r.all();
   const fs::path ev = fs::temp_directory_path() / "squint_calibrate_test_eval";
   fs::remove_all(ev);
   r = RunSquint("eval corridor " + (data / "orient-1-00").string() + " --calib " + out.string() + " --no-plots --out " +
                 ev.string());
-  EXPECT_EQ(r.code, 0) << r.out;
-  EXPECT_NE(r.out.find("warning: sequence 'orient-1-00' was also used to fit"), std::string::npos) << r.out;
+  EXPECT_EQ(r.code, 0) << r.all();
+  EXPECT_NE(r.all().find("warning: sequence 'orient-1-00' was also used to fit"), std::string::npos) << r.all();
   EXPECT_TRUE(fs::exists(ev / "report.json"));
   fs::remove_all(ev);
   fs::remove(out);

@@ -10,22 +10,12 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "cli_run.hpp"
+
 namespace {
 
-struct Result {
-  int code = 0;
-  std::string output;
-};
-
-Result RunSquint(const std::string& args) {
-  const std::string cmd = std::string(SQUINT_BINARY) + " " + args + " 2>&1";
-  Result r;
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
-  std::array<char, 512> buf{};
-  while (fgets(buf.data(), buf.size(), pipe.get())) r.output += buf.data();
-  r.code = pclose(pipe.release());
-  return r;
-}
+using squint::test::CliResult;
+using squint::test::RunSquint;
 
 std::filesystem::path TempDir(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / ("squint_apps_explore_" + name);
@@ -35,8 +25,8 @@ std::filesystem::path TempDir(const std::string& name) {
 
 TEST(ExploreCli, ShortRunWritesTheThreeOutputs) {
   const auto out = TempDir("short");
-  const Result r = RunSquint("explore --world corridor-0 --minutes 0.5 --seed 2 --out " + out.string());
-  ASSERT_EQ(r.code, 0) << r.output;
+  const CliResult r = RunSquint("explore --world corridor-0 --minutes 0.5 --seed 2 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.all();
   std::ifstream js(out / "summary.json");
   const nlohmann::json j = nlohmann::json::parse(js);
   for (const char* key : {"sim_seconds", "distance_m", "collisions", "coverage", "ends_detected", "turns", "frames",
@@ -52,16 +42,16 @@ TEST(ExploreCli, ShortRunWritesTheThreeOutputs) {
 
 TEST(ExploreCli, UnknownWorldIsOneClearLine) {
   const auto out = TempDir("bad");
-  const Result r = RunSquint("explore --world no-such-world --minutes 0.1 --out " + out.string());
+  const CliResult r = RunSquint("explore --world no-such-world --minutes 0.1 --out " + out.string());
   EXPECT_NE(r.code, 0);
-  EXPECT_NE(r.output.find("squint: error:"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("no-such-world"), std::string::npos) << r.output;
+  EXPECT_NE(r.all().find("squint: error:"), std::string::npos) << r.all();
+  EXPECT_NE(r.all().find("no-such-world"), std::string::npos) << r.all();
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 TEST(ExploreCli, NonPositiveMinutesIsRejected) {
   const auto out = TempDir("minutes");
-  const Result r = RunSquint("explore --minutes 0 --out " + out.string());
+  const CliResult r = RunSquint("explore --minutes 0 --out " + out.string());
   EXPECT_NE(r.code, 0);
   EXPECT_FALSE(std::filesystem::exists(out));
 }

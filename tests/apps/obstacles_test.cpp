@@ -9,22 +9,17 @@
 #include <string>
 #include <unistd.h>
 
+#include "cli_run.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
+// Exit code of `squint ARGS`; its standard error in *err when given.
 int RunSquint(const std::string& args, std::string* err = nullptr) {
-  const fs::path log = fs::temp_directory_path() / ("squint_obstacles_test-" + std::to_string(::getpid()) + ".log");
-  const int rc = std::system((std::string(SQUINT_BINARY) + " " + args + " 2> " + log.string()).c_str());
-  if (err) {
-    std::ifstream in(log);
-    std::stringstream s;
-    s << in.rdbuf();
-    *err = s.str();
-  }
-  std::error_code ec;
-  fs::remove(log, ec);
-  return WEXITSTATUS(rc);
+  const squint::test::CliResult r = squint::test::RunSquint(args);
+  if (err) *err = r.err;
+  return r.code;
 }
 
 fs::path Sequence() { return fs::path(SQUINT_SHARED_DATA_DIR) / "obstacles-2-00"; }
