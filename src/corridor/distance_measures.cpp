@@ -77,7 +77,8 @@ struct TtcSums {
   }
 };
 
-TtcSums SumTtc(const Glance& a, const Glance& b, double cx, double cy, bool gain) {
+template <bool kGain>
+TtcSums SumTtcImpl(const Glance& a, const Glance& b, double cx, double cy) {
   // Single precision inside a row (vectorisable), double across rows.
   TtcSums s;
   for (int v = 1; v < kH - 1; ++v) {
@@ -93,7 +94,7 @@ TtcSums SumTtc(const Glance& a, const Glance& b, double cx, double cy, bool gain
       const float it = static_cast<float>(b0[u] - a0[u]);
       gg += g * g;
       git += g * it;
-      if (gain) {
+      if constexpr (kGain) {
         const float m = 0.5f * static_cast<float>(a0[u] + b0[u]);
         gm += g * m;
         g1 += g;
@@ -114,6 +115,11 @@ TtcSums SumTtc(const Glance& a, const Glance& b, double cx, double cy, bool gain
   }
   s.n = static_cast<double>((kW - 2) * (kH - 2));
   return s;
+}
+
+// The plain sums (two accumulators per pixel) unless gain compensation needs the other six.
+TtcSums SumTtc(const Glance& a, const Glance& b, double cx, double cy, bool gain) {
+  return gain ? SumTtcImpl<true>(a, b, cx, cy) : SumTtcImpl<false>(a, b, cx, cy);
 }
 
 }  // namespace
