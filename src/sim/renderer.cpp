@@ -721,20 +721,13 @@ struct Renderer::Impl {
       case Surf::kInside: p.exact = true; return p;
       case Surf::kFloor: {
         const Cell& cell = cells[GridIndex(x, y)];
-        const int f = cell.flat;
-        if (f != -1) {
-          for (std::size_t i = (f >= 0 ? f : 0); i < (f >= 0 ? f + 1 : world.flat_items.size()); ++i) {
-            const FlatItem& it = world.flat_items[i];
-            const double c = std::cos(it.yaw), s = std::sin(it.yaw);
-            const double lx = c * (x - it.centre.x()) + s * (y - it.centre.y());
-            const double ly = -s * (x - it.centre.x()) + c * (y - it.centre.y());
-            if (std::abs(lx) <= it.half_x && std::abs(ly) <= it.half_y) {
-              const MatFast& m = mats[it.material];
-              p.key2 = static_cast<std::uint32_t>(it.material) << 16 | static_cast<std::uint32_t>(i + 1);
-              p.mat = it.material, p.tu = lx, p.tv = ly, p.a = m.albedo * cell.irr, p.b = m.emission;
-              return p;
-            }
-          }
+        double lx = 0.0, ly = 0.0;
+        if (const int i = FlatItemAt(cell, x, y, lx, ly); i >= 0) {
+          const FlatItem& it = world.flat_items[i];
+          const MatFast& m = mats[it.material];
+          p.key2 = static_cast<std::uint32_t>(it.material) << 16 | static_cast<std::uint32_t>(i + 1);
+          p.mat = it.material, p.tu = lx, p.tv = ly, p.a = m.albedo * cell.irr, p.b = m.emission;
+          return p;
         }
         const int mat = cell.floor_mat;
         const MatFast& m = mats[mat];
@@ -809,6 +802,22 @@ struct Renderer::Impl {
   double Eval(const SurfPt& p) const { return p.mat >= 0 ? Tex(p.mat, p.tu, p.tv) * p.a + p.b : p.b; }
 
   // Radiance of a hit seen along (dx, dy, k) from (ox, oy, oz); `depth` limits mirror bounces.
+  // The flat item (paper, mat) lying under floor point (x, y) of light-map cell `cell`: its index
+  // in world.flat_items and the point in the item's own frame (lx, ly); -1 when there is none.
+  // Shared by the one-sample shading and the adaptive path's surface description.
+  int FlatItemAt(const Cell& cell, double x, double y, double& lx, double& ly) const {
+    const int f = cell.flat;
+    if (f == -1) return -1;
+    for (std::size_t i = (f >= 0 ? f : 0); i < (f >= 0 ? f + 1 : world.flat_items.size()); ++i) {
+      const FlatItem& it = world.flat_items[i];
+      const double c = std::cos(it.yaw), s = std::sin(it.yaw);
+      lx = c * (x - it.centre.x()) + s * (y - it.centre.y());
+      ly = -s * (x - it.centre.x()) + c * (y - it.centre.y());
+      if (std::abs(lx) <= it.half_x && std::abs(ly) <= it.half_y) return static_cast<int>(i);
+    }
+    return -1;
+  }
+
   // Written out for speed (the one-sample path); Describe + Eval give the same radiance, which
   // the adaptive-vs-full supersampling test checks.
   double Shade(const Hit& hit, double ox, double oy, double oz, double dx, double dy, double k, int depth) const {
@@ -819,18 +828,11 @@ struct Renderer::Impl {
       case Surf::kFloor: {
         const std::size_t g = GridIndex(x, y);
         const Cell& cell = cells[g];
-        const int f = cell.flat;
-        if (f != -1) {
-          for (std::size_t i = (f >= 0 ? f : 0); i < (f >= 0 ? f + 1 : world.flat_items.size()); ++i) {
-            const FlatItem& it = world.flat_items[i];
-            const double c = std::cos(it.yaw), s = std::sin(it.yaw);
-            const double lx = c * (x - it.centre.x()) + s * (y - it.centre.y());
-            const double ly = -s * (x - it.centre.x()) + c * (y - it.centre.y());
-            if (std::abs(lx) <= it.half_x && std::abs(ly) <= it.half_y) {
-              const MatFast& m = mats[it.material];
-              return m.albedo * Tex(it.material, lx, ly) * cell.irr + m.emission;
-            }
-          }
+        double lx = 0.0, ly = 0.0;
+        if (const int i = FlatItemAt(cell, x, y, lx, ly); i >= 0) {
+          const FlatItem& it = world.flat_items[i];
+          const MatFast& m = mats[it.material];
+          return m.albedo * Tex(it.material, lx, ly) * cell.irr + m.emission;
         }
         const int mat = cell.floor_mat;
         const MatFast& m = mats[mat];
