@@ -13,21 +13,13 @@
 #include <opencv2/imgproc.hpp>
 
 #include "squint/obstacles/ipt_pipeline.hpp"
+#include "../tests/obstacles/obstacle_camera.hpp"
 
 namespace {
 
 using squint::CameraModel;
 using squint::Pose2;
 namespace ob = squint::obstacles;
-
-CameraModel BenchCamera() {
-  CameraModel c;
-  c.width = 256, c.height = 192;
-  c.fx = c.fy = 200.0;
-  c.cx = 127.5, c.cy = 95.5;
-  c.height_m = 0.43, c.pitch_deg = -9.0;
-  return c;
-}
 
 // A random blob texture; the floor is textured in world coordinates (5 mm per texel) and the
 // wall/box faces by their own coordinates, so both frames see the same scene. The texel-scale
@@ -91,7 +83,7 @@ struct Pair {
 const Pair& BenchPair() {
   static const Pair pair = [] {
     Pair p;
-    const CameraModel cam = BenchCamera();
+    const CameraModel cam = squint::obstacles::testing::SimObstacleCamera();
     const cv::Mat floor_tex = Texture(1), box_tex = Texture(2);
     p.a = Render(cam, p.pa, floor_tex, box_tex);
     p.b = Render(cam, p.pb, floor_tex, box_tex);
@@ -114,7 +106,7 @@ void RunPipeline(benchmark::State& state, ob::Detector detector) {
   const Pair& pair = BenchPair();
   ob::IptOptions options;
   options.features.detector = detector;
-  ob::IptPipeline pipeline(BenchCamera(), options);
+  ob::IptPipeline pipeline(squint::obstacles::testing::SimObstacleCamera(), options);
   ob::PairResult result;
   cv::setNumThreads(1);  // the budget is one core (DESIGN.md)
   for (auto _ : state) {
@@ -132,7 +124,7 @@ void RunStream(benchmark::State& state, ob::Detector detector) {
   const Pair& pair = BenchPair();
   ob::IptOptions options;
   options.features.detector = detector;
-  ob::IptPipeline pipeline(BenchCamera(), options);
+  ob::IptPipeline pipeline(squint::obstacles::testing::SimObstacleCamera(), options);
   ob::PairResult result;
   cv::setNumThreads(1);
   pipeline.Process(pair.b, pair.a, pair.pb, pair.pa, &result);  // warm: a is now the last later frame

@@ -11,17 +11,10 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "obstacle_camera.hpp"
+
 namespace squint::obstacles {
 namespace {
-
-CameraModel TestCamera() {
-  CameraModel c;
-  c.width = 256, c.height = 192;
-  c.fx = c.fy = 200.0;
-  c.cx = 127.5, c.cy = 95.5;
-  c.height_m = 0.43, c.pitch_deg = -9.0;
-  return c;
-}
 
 cv::Mat Texture(unsigned seed) {
   std::mt19937 rng(seed);
@@ -76,7 +69,7 @@ cv::Mat Render(const CameraModel& cam, const Pose2& pose, const cv::Mat& floor_t
 }
 
 struct Scene {
-  CameraModel cam = TestCamera();
+  CameraModel cam = testing::SimObstacleCamera();
   Pose2 a{0.0, 0.0, 0.0}, b{0.031, 0.0, 0.0};
   cv::Mat ia, ib, box_b;
   Scene() {
@@ -206,12 +199,12 @@ TEST(PipelineDegenerate, InvalidOptionsOrCameraThrowWithAReason) {
   IptOptions opt;
   opt.features.ratio = 1.5;
   try {
-    IptPipeline p(TestCamera(), opt);
+    IptPipeline p(testing::SimObstacleCamera(), opt);
     FAIL() << "expected an error";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("ratio"), std::string::npos) << e.what();
   }
-  CameraModel bad = TestCamera();
+  CameraModel bad = testing::SimObstacleCamera();
   bad.fx = 0.0;
   EXPECT_THROW(IptPipeline(bad, IptOptions{}), std::exception);
 }
