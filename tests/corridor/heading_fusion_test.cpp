@@ -7,21 +7,13 @@
 #include <vector>
 
 #include "squint/core/angles.hpp"
+#include "corridor_camera.hpp"
 #include "squint/corridor/perceiver.hpp"
 
 namespace squint::corridor {
 namespace {
 
-CameraModel Camera160() {
-  CameraModel c;
-  c.width = 160;
-  c.height = 120;
-  c.fx = c.fy = 170.0;
-  c.cx = 79.5;
-  c.cy = 59.5;
-  c.height_m = 0.7;
-  return c;
-}
+using testing::Camera160;
 
 // Edges radiating from the vanishing point (vx, vy) at full resolution (as corridor edges do):
 // mirror-symmetric about the column through it, and every edge line passes through it.

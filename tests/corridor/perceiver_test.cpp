@@ -1,5 +1,6 @@
 // The Perceiver: gate behaviour (§5.3), degenerate frames, fusion of a known corridor, and no
 // heap allocation per glance in steady state (counted by replacing operator new in this binary).
+#include "corridor_camera.hpp"
 #include "squint/corridor/perceiver.hpp"
 
 #include <gtest/gtest.h>
@@ -28,16 +29,7 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 namespace squint::corridor {
 namespace {
 
-CameraModel TestCamera() {
-  CameraModel c;
-  c.width = 160;
-  c.height = 120;
-  c.fx = c.fy = 170.0;
-  c.cx = 79.5;
-  c.cy = 59.5;
-  c.height_m = 0.7;
-  return c;
-}
+using testing::Camera160;
 
 // A 160×120 frame of the radial corridor pattern (see heading_measures_test) with its vanishing
 // point at full-resolution pixel (vx, vy), ceiling lights on the axis, and a tiny per-frame offset.
@@ -75,7 +67,7 @@ void ExpectFinite(const PerceptionResult& r) {
 TEST(Perceiver, FusedHeadingOfAKnownCorridor) {
   CorridorOptions options;
   options.gate.enabled = false;
-  Perceiver perceiver(options, TestCamera());
+  Perceiver perceiver(options, Camera160());
   // Vanishing point 22.5 px right of centre at full resolution (u = 102, the pixel that glance
   // column 20 samples; the symmetry cue scores whole-column axes): heading = atan(22.5 / 170),
   // left positive.
@@ -93,7 +85,7 @@ TEST(Perceiver, FusedHeadingOfAKnownCorridor) {
 TEST(Perceiver, UniformFrameGivesNoEstimateWithReasons) {
   CorridorOptions options;
   options.gate.enabled = false;
-  Perceiver perceiver(options, TestCamera());
+  Perceiver perceiver(options, Camera160());
   std::vector<std::uint8_t> flat(160 * 120, 128);
   for (int i = 0; i < 3; ++i) {
     const PerceptionResult r = perceiver.Process(View(flat), 0.1, 0.1);
@@ -108,7 +100,7 @@ TEST(Perceiver, UniformFrameGivesNoEstimateWithReasons) {
 }
 
 TEST(Perceiver, GateSkipsSmallChangesAndResets) {
-  Perceiver perceiver(CorridorOptions{}, TestCamera());
+  Perceiver perceiver(CorridorOptions{}, Camera160());
   const auto a = Frame(90.0, 59.5);
   const auto far = Frame(40.0, 40.0, 30);
   PerceptionResult r = perceiver.Process(View(a), std::nullopt, 0.1);
@@ -154,7 +146,7 @@ TEST(Perceiver, NoHeapAllocationPerGlanceInSteadyState) {
   CorridorOptions options;
   options.gate.enabled = false;
   options.distance.speed_mps = 0.4;
-  Perceiver perceiver(options, TestCamera());
+  Perceiver perceiver(options, Camera160());
   const auto a = Frame(85.0, 59.5), b = Frame(86.0, 59.5, 4);
   perceiver.Process(View(a), std::nullopt, 0.1);  // warm-up: tables built once
   perceiver.Process(View(b), std::nullopt, 0.1);
