@@ -17,16 +17,20 @@ FloorPlan::FloorPlan(const World& world, const FloorPlanOptions& options) : opti
   auto fill_box = [&](const Box2& r, const cv::Scalar& c) {
     cv::rectangle(image_, ToPixel({r.x0, r.y0}), ToPixel({r.x1, r.y1}), c, cv::FILLED);
   };
-  for (const Corridor& c : world.corridors) fill_box(c.rect, cv::Scalar(235, 235, 235));
-  for (const Box2& r : world.recesses) fill_box(r, cv::Scalar(215, 225, 235));
-  for (const FlatItem& f : world.flat_items) {
-    const cv::RotatedRect rr(ToPixel(f.centre), cv::Size2f(2 * f.half_x * options.px_per_m, 2 * f.half_y * options.px_per_m),
-                             static_cast<float>(-f.yaw * 180.0 / 3.14159265358979));
+  // A rectangle of half-sizes (half_x, half_y) about `centre`, turned by yaw (radians, CCW).
+  auto fill_rotated = [&](const Eigen::Vector2d& centre, double half_x, double half_y, double yaw,
+                          const cv::Scalar& c) {
+    const cv::RotatedRect rr(ToPixel(centre), cv::Size2f(2 * half_x * options.px_per_m, 2 * half_y * options.px_per_m),
+                             static_cast<float>(-yaw * 180.0 / 3.14159265358979));
     cv::Point2f pts[4];
     rr.points(pts);
     std::vector<cv::Point> poly(pts, pts + 4);
-    cv::fillConvexPoly(image_, poly, cv::Scalar(180, 210, 180), cv::LINE_AA);
-  }
+    cv::fillConvexPoly(image_, poly, c, cv::LINE_AA);
+  };
+  for (const Corridor& c : world.corridors) fill_box(c.rect, cv::Scalar(235, 235, 235));
+  for (const Box2& r : world.recesses) fill_box(r, cv::Scalar(215, 225, 235));
+  for (const FlatItem& f : world.flat_items)
+    fill_rotated(f.centre, f.half_x, f.half_y, f.yaw, cv::Scalar(180, 210, 180));
   if (options.draw_lights)
     for (const Light& l : world.lights)
       fill_box({l.centre.x() - l.half_x, l.centre.y() - l.half_y, l.centre.x() + l.half_x, l.centre.y() + l.half_y},
@@ -55,12 +59,7 @@ FloorPlan::FloorPlan(const World& world, const FloorPlanOptions& options) : opti
       cv::circle(image_, ToPixel(o.centre), std::max(1, static_cast<int>(o.radius * options.px_per_m)), cv::Scalar(40, 40, 200),
                  cv::FILLED, cv::LINE_AA);
     } else {
-      const cv::RotatedRect rr(ToPixel(o.centre), cv::Size2f(2 * o.half_x * options.px_per_m, 2 * o.half_y * options.px_per_m),
-                               static_cast<float>(-o.yaw * 180.0 / 3.14159265358979));
-      cv::Point2f pts[4];
-      rr.points(pts);
-      std::vector<cv::Point> poly(pts, pts + 4);
-      cv::fillConvexPoly(image_, poly, cv::Scalar(40, 40, 200), cv::LINE_AA);
+      fill_rotated(o.centre, o.half_x, o.half_y, o.yaw, cv::Scalar(40, 40, 200));
     }
   }
   DrawRobot(world.start, world.robot.radius_m, cv::Scalar(0, 160, 0));
