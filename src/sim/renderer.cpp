@@ -131,6 +131,7 @@ struct Renderer::Impl {
   struct WallLight {
     std::size_t offset = 0;
     int nu = 0, nz = 0;
+    double lo = 0;  // the wall's start (its along-coordinate at column 0)
   };
   std::vector<WallLight> wall_light;
   std::vector<float> wall_irr;
@@ -380,6 +381,7 @@ struct Renderer::Impl {
       wl.offset = wall_irr.size();
       wl.nu = static_cast<int>(std::ceil((ws.hi - ws.lo) / kWallCell)) + 2;
       wl.nz = static_cast<int>(std::ceil(ws.height_m / kWallCell)) + 1;
+      wl.lo = ws.lo;
       wall_light.push_back(wl);
       const Eigen::Vector3d normal(ws.normal.x(), ws.normal.y(), 0.0);
       for (int iu = 0; iu < wl.nu; ++iu) {
@@ -672,7 +674,7 @@ struct Renderer::Impl {
   // light table, linear along the wall and nearest in height.
   [[gnu::always_inline]] double WallIrradiance(int w, double along, double z) const {
     const WallLight& wl = wall_light[w];
-    const double fu = std::clamp((along - world.walls[w].lo) * (1.0 / kWallCell), 0.0, wl.nu - 2.0);
+    const double fu = std::clamp((along - wl.lo) * (1.0 / kWallCell), 0.0, wl.nu - 2.0);
     const int iu = static_cast<int>(fu);
     const int iz = std::clamp(static_cast<int>(z * (1.0 / kWallCell) + 0.5), 0, wl.nz - 1);
     const float* col = &wall_irr[wl.offset + static_cast<std::size_t>(iu) * wl.nz + iz];
@@ -942,12 +944,39 @@ struct Renderer::Impl {
     const auto surf = static_cast<Surf>(key1 >> 24);
     const int id = static_cast<int>(key1 & 0xFFFFFFu);
     PlainAccum acc;
-    for (int i = 0; i < nn; ++i, ++s) {
-      const double dx = cyaw * s->ca - syaw * s->sa, dy = syaw * s->ca + cyaw * s->sa;
-      const double r = PlaneDistance(key1, *s, dx, dy);
-      if (r == kInf) return PixelOnPlane(s - i, key1);
-      Accumulate(acc, surf, id, px + dx * r, py + dy * r, cam_h + s->k * r);
+    const Sample* const s0 = s;
+    if (surf == Surf::kWall) {
+      // PlaneDistance (WallDistance) and Accumulate written out for one wall: the same values.
+      const WallSegment& ws = world.walls[id];
+      const bool ax = ws.along_x;
+      const double wc = ws.coord, wp = ax ? py : px, wa = ax ? px : py;
+      const double lo = ws.lo - 1e-7, hi = ws.hi + 1e-7;
+      for (int i = 0; i < nn; ++i, ++s) {
+        const double dx = cyaw * s->ca - syaw * s->sa, dy = syaw * s->ca + cyaw * s->sa;
+        const double dp = ax ? dy : dx, da = ax ? dx : dy;
+        if (dp == 0) return PixelOnPlane(s0, key1);
+        const double t = (wc - wp) / dp, along = wa + t * da;
+        if (t <= 0 || along < lo || along > hi) return PixelOnPlane(s0, key1);
+        const double z = cam_h + s->k * t;
+        acc.e_sum += WallIrradiance(id, along, z);
+        acc.u_lo = std::min(acc.u_lo, along), acc.u_hi = std::max(acc.u_hi, along);
+        acc.v_lo = std::min(acc.v_lo, z), acc.v_hi = std::max(acc.v_hi, z);
+      }
+    } else {
+      const bool ceiling = surf == Surf::kCeiling;
+      const double scale = ceiling ? frame_ceiling - cam_h : 1.0;
+      for (int i = 0; i < nn; ++i, ++s) {
+        if (ceiling ? !(s->k > 0) : !(s->k < 0)) return PixelOnPlane(s0, key1);
+        const double dx = cyaw * s->ca - syaw * s->sa, dy = syaw * s->ca + cyaw * s->sa;
+        const double r = ceiling ? scale * s->rk : static_cast<double>(s->rk);
+        const double x = px + dx * r, y = py + dy * r;
+        const double irr = cells[GridIndex(x, y)].irr;
+        acc.e_sum += ceiling ? world.ambient + kCeilingBounce * irr : irr;
+        acc.u_lo = std::min(acc.u_lo, x), acc.u_hi = std::max(acc.u_hi, x);
+        acc.v_lo = std::min(acc.v_lo, y), acc.v_hi = std::max(acc.v_hi, y);
+      }
     }
+    acc.count = nn;
     return AccumRadiance(acc, surf, mat);
   }
 
