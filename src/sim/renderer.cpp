@@ -1344,7 +1344,7 @@ struct Renderer::Impl {
           const std::uint64_t h = SplitMix(key ^ (static_cast<std::uint64_t>(v) * 100003u + u));
           grey += options.noise_sigma * normal_table[h & 0xFFFF];
         }
-        row[u] = static_cast<std::uint8_t>(std::clamp(std::floor(grey + 0.5), 0.0, 255.0));  // as lround
+        row[u] = static_cast<std::uint8_t>(std::clamp(grey + 0.5, 0.0, 255.0));  // rounds half up (truncation of a non-negative value)
         if (label || range) {
           const Sample& c = n > 1 ? centres[static_cast<std::size_t>(v) * camera.width + u] : *s;
           double dx, dy;

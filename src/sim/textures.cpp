@@ -138,13 +138,23 @@ TextureTable MakeTexture(const Material& m, std::uint32_t seed) {
   return t;
 }
 
+namespace {
+
+// std::floor for the texel coordinates (|x| far below 2^62), without a libm call.
+inline std::int64_t FloorToInt(double x) {
+  const auto i = static_cast<std::int64_t>(x);  // truncates toward zero
+  return i - (static_cast<double>(i) > x);
+}
+
+}  // namespace
+
 float TextureTable::BoxMean(double u0, double u1, double v0, double v1) const {
   constexpr int kS = kTexSize + 1;
   // Texel columns [x0, x1) and rows [y0, y1) meeting the box, at most one table wide.
-  const auto x0 = static_cast<std::int64_t>(std::floor(u0 * inv_texel_m));
-  const auto y0 = static_cast<std::int64_t>(std::floor(v0 * inv_texel_m));
-  const std::int64_t x1 = std::min<std::int64_t>(static_cast<std::int64_t>(std::floor(u1 * inv_texel_m)) + 1, x0 + kTexSize);
-  const std::int64_t y1 = std::min<std::int64_t>(static_cast<std::int64_t>(std::floor(v1 * inv_texel_m)) + 1, y0 + kTexSize);
+  const std::int64_t x0 = FloorToInt(u0 * inv_texel_m);
+  const std::int64_t y0 = FloorToInt(v0 * inv_texel_m);
+  const std::int64_t x1 = std::min<std::int64_t>(FloorToInt(u1 * inv_texel_m) + 1, x0 + kTexSize);
+  const std::int64_t y1 = std::min<std::int64_t>(FloorToInt(v1 * inv_texel_m) + 1, y0 + kTexSize);
   // The periodic extension's prefix sum is S2(x, y) = qx qy T + qx C(ry) + qy R(rx) + S(rx, ry)
   // with q = floor(x / kTexSize), r = x mod kTexSize, T the table total, C and R the sums of
   // whole rows and columns; the box sum S2(x1,y1) - S2(x0,y1) - S2(x1,y0) + S2(x0,y0) groups into:
