@@ -24,8 +24,9 @@ struct ObstaclesCommandOptions {
   std::string out;
 };
 
-// The fixed columns, then the match in the earlier frame and the image zone (0–3).
-constexpr const char* kHeader = "frame,u,v,discrepancy_m,class,previous_u,previous_v,zone";
+// The fixed columns, then the match in the earlier frame, the image zone (0–3) and the paper's D
+// (eq. 4); discrepancy_m is the one classified (the mirror-aware discrepancy by default).
+constexpr const char* kHeader = "frame,u,v,discrepancy_m,class,previous_u,previous_v,zone,plain_discrepancy_m";
 
 void Run(const ObstaclesCommandOptions& cli) {
   obstacles::IptOptions options;
@@ -55,7 +56,9 @@ void Run(const ObstaclesCommandOptions& cli) {
         os << i << ',' << fmt::format("{:.2f},{:.2f},", f.pixel.x(), f.pixel.y());
         if (f.discrepancy_m) os << fmt::format("{:.5f}", *f.discrepancy_m);
         os << ',' << (*f.cls == obstacles::FeatureClass::kObstacle ? "obstacle" : "ground") << ','
-           << fmt::format("{:.2f},{:.2f},{}", f.previous_pixel.x(), f.previous_pixel.y(), f.zone) << '\n';
+           << fmt::format("{:.2f},{:.2f},{},", f.previous_pixel.x(), f.previous_pixel.y(), f.zone);
+        if (f.plain_discrepancy_m) os << fmt::format("{:.5f}", *f.plain_discrepancy_m);
+        os << '\n';
       }
     }
     previous = current;

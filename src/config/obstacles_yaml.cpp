@@ -100,12 +100,13 @@ IptOptions IptOptionsFromYaml(const std::string& text, const std::string& source
   const YAML::Node root = IptPart(doc, source, &where);
   if (!root || root.IsNull()) return o;
   const Reader r(where);
-  r.RequireMap(root, "", {"features", "fundamental", "classifier", "min_translation_m", "pure_rotation_deg"});
+  r.RequireMap(root, "", {"features", "fundamental", "classifier", "min_translation_m", "pure_rotation_deg",
+                          "mirror_aware"});
 
   if (const YAML::Node f = root["features"]) {
     r.RequireMap(f, "features",
                  {"detector", "max_features", "ratio", "sift_contrast_threshold", "sift_octave_layers",
-                  "orb_fast_threshold", "orb_levels", "akaze_threshold", "klt_quality", "klt_min_distance_px",
+                  "sift_first_octave", "orb_fast_threshold", "orb_levels", "akaze_threshold", "klt_quality", "klt_min_distance_px",
                   "klt_window_px", "klt_levels", "klt_max_fb_error_px", "refine_subpixel", "refine_window_px",
                   "refine_max_shift_px", "max_displacement_px"});
     std::string detector = obstacles::DetectorName(o.features.detector);
@@ -117,6 +118,7 @@ IptOptions IptOptionsFromYaml(const std::string& text, const std::string& source
     r.Get(f, "features", "ratio", &x.ratio);
     r.Get(f, "features", "sift_contrast_threshold", &x.sift_contrast_threshold);
     r.Get(f, "features", "sift_octave_layers", &x.sift_octave_layers);
+    r.Get(f, "features", "sift_first_octave", &x.sift_first_octave);
     r.Get(f, "features", "orb_fast_threshold", &x.orb_fast_threshold);
     r.Get(f, "features", "orb_levels", &x.orb_levels);
     r.Get(f, "features", "akaze_threshold", &x.akaze_threshold);
@@ -171,6 +173,7 @@ IptOptions IptOptionsFromYaml(const std::string& text, const std::string& source
   }
   r.Get(root, "", "min_translation_m", &o.min_translation_m);
   r.Get(root, "", "pure_rotation_deg", &o.pure_rotation_deg);
+  r.Get(root, "", "mirror_aware", &o.mirror_aware);
   if (auto why = o.Validate(); !why.empty()) throw Error(where + ": invalid options: " + why);
   return o;
 }
@@ -194,6 +197,7 @@ std::string IptOptionsToYaml(const IptOptions& o) {
   e << YAML::Key << "ratio" << YAML::Value << f.ratio;
   e << YAML::Key << "sift_contrast_threshold" << YAML::Value << f.sift_contrast_threshold;
   e << YAML::Key << "sift_octave_layers" << YAML::Value << f.sift_octave_layers;
+  e << YAML::Key << "sift_first_octave" << YAML::Value << f.sift_first_octave;
   e << YAML::Key << "orb_fast_threshold" << YAML::Value << f.orb_fast_threshold;
   e << YAML::Key << "orb_levels" << YAML::Value << f.orb_levels;
   e << YAML::Key << "akaze_threshold" << YAML::Value << f.akaze_threshold;
@@ -235,6 +239,7 @@ std::string IptOptionsToYaml(const IptOptions& o) {
   e << YAML::EndMap;
   e << YAML::Key << "min_translation_m" << YAML::Value << o.min_translation_m;
   e << YAML::Key << "pure_rotation_deg" << YAML::Value << o.pure_rotation_deg;
+  e << YAML::Key << "mirror_aware" << YAML::Value << o.mirror_aware;
   e << YAML::EndMap;
   return std::string(e.c_str()) + "\n";
 }

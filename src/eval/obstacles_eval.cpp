@@ -39,7 +39,7 @@ SequenceSamples CollectObstacleSamples(const std::filesystem::path& path, const 
         const int u = std::clamp(static_cast<int>(std::lround(f.pixel.x())), 0, label.cols - 1);
         const int v = std::clamp(static_cast<int>(std::lround(f.pixel.y())), 0, label.rows - 1);
         out.samples.push_back({i, f.pixel.x(), f.pixel.y(), f.zone, f.discrepancy_m, f.signed_discrepancy_m,
-                               f.previous_pixel.x(), f.previous_pixel.y(), f.motion_epipolar_px,
+                               f.plain_discrepancy_m, f.previous_pixel.x(), f.previous_pixel.y(), f.motion_epipolar_px,
                                label.at<unsigned char>(v, u) != 0});
       }
     }
@@ -63,6 +63,17 @@ std::vector<ScoredLabel> DiscrepancyScores(const std::vector<ObstacleSample>& sa
   }
   return scores;
 }
+
+namespace {
+// As DiscrepancyScores(samples, false), for the paper's D (eq. 4).
+std::vector<ScoredLabel> PlainDiscrepancyScores(const std::vector<ObstacleSample>& samples) {
+  std::vector<ScoredLabel> scores;
+  scores.reserve(samples.size());
+  for (const auto& s : samples)
+    scores.push_back({s.plain_discrepancy_m.value_or(std::numeric_limits<double>::infinity()), s.obstacle});
+  return scores;
+}
+}  // namespace
 
 std::vector<obstacles::LabelledDiscrepancy> TrainingSamples(const std::vector<ObstacleSample>& samples) {
   std::vector<obstacles::LabelledDiscrepancy> out;
@@ -125,7 +136,7 @@ ObstacleEvalReport EvaluateObstacles(const std::vector<SequenceSamples>& sequenc
   report.leave_one_out = eval_options.leave_one_out && sequences.size() > 1;
 
   std::size_t single_pairs = 0, zone_pairs = 0;
-  double auc_sum = 0.0;
+  double auc_sum = 0.0, auc_plain_sum = 0.0;
   for (std::size_t k = 0; k < sequences.size(); ++k) {
     const SequenceSamples& seq = sequences[k];
     SequenceReport r;
@@ -137,7 +148,9 @@ ObstacleEvalReport EvaluateObstacles(const std::vector<SequenceSamples>& sequenc
     r.roc = ComputeRoc(DiscrepancyScores(seq.samples, false));
     r.auc = r.roc.auc;
     r.auc_below_horizon = ComputeRoc(DiscrepancyScores(seq.samples, true)).auc;
+    r.auc_plain = ComputeRoc(PlainDiscrepancyScores(seq.samples)).auc;
     auc_sum += r.auc;
+    auc_plain_sum += r.auc_plain;
     std::vector<obstacles::LabelledDiscrepancy> training;
     if (report.leave_one_out) {
       for (std::size_t j = 0; j < sequences.size(); ++j)
@@ -159,6 +172,7 @@ ObstacleEvalReport EvaluateObstacles(const std::vector<SequenceSamples>& sequenc
     report.sequences.push_back(std::move(r));
   }
   report.mean_auc = sequences.empty() ? 0.0 : auc_sum / static_cast<double>(sequences.size());
+  report.mean_auc_plain = sequences.empty() ? 0.0 : auc_plain_sum / static_cast<double>(sequences.size());
   return report;
 }
 

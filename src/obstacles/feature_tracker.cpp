@@ -44,6 +44,7 @@ std::string FeatureOptions::Validate() const {
   if (!(ratio > 0.0 && ratio <= 1.0)) why << "ratio must lie in (0, 1]; ";
   if (!(sift_contrast_threshold > 0.0)) why << "sift_contrast_threshold must be positive; ";
   if (sift_octave_layers < 1) why << "sift_octave_layers must be at least 1; ";
+  if (sift_first_octave != -1 && sift_first_octave != 0) why << "sift_first_octave must be -1 or 0; ";
   if (orb_fast_threshold < 1) why << "orb_fast_threshold must be at least 1; ";
   if (orb_levels < 1) why << "orb_levels must be at least 1; ";
   if (!(akaze_threshold > 0.0)) why << "akaze_threshold must be positive; ";
@@ -145,9 +146,9 @@ class DescriptorTracker : public FeatureTracker {
       std::swap(kp_prev_, kp_cur_);
       cv::swap(desc_prev_, desc_cur_);
     } else {
-      feature_->detectAndCompute(previous, cv::noArray(), kp_prev_, desc_prev_);
+      Detect(previous, &kp_prev_, &desc_prev_);
     }
-    feature_->detectAndCompute(current, cv::noArray(), kp_cur_, desc_cur_);
+    Detect(current, &kp_cur_, &desc_cur_);
     current.copyTo(last_current_);
     if (kp_prev_.size() < 2 || kp_cur_.size() < 2) return;
     DescriptorDistances(desc_cur_, desc_prev_, norm_, &dist_);
@@ -186,12 +187,28 @@ class DescriptorTracker : public FeatureTracker {
   std::vector<cv::KeyPoint> kp_prev_, kp_cur_;
   cv::Mat desc_prev_, desc_cur_;
   cv::Mat last_current_;  // copy of the last later frame (kp_cur_, desc_cur_ are its detection)
+  cv::Mat half_;          // the half-size image (SIFT with a native first octave)
   cv::Mat dist_;  // descriptor distances, current rows × previous columns
   std::vector<int> column_best_;
   std::vector<float> column_best_d_;
   std::vector<cv::Point2f> from_, to_, start_;
   std::vector<unsigned char> status_;
   std::vector<float> err_;
+
+  // Keypoints and descriptors of one image; with a native first octave (SIFT), on the half-size
+  // image, keypoints mapped back (half-size pixel i covers full-size pixels 2i and 2i + 1).
+  void Detect(const cv::Mat& image, std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors) {
+    if (!(kind_ == Detector::kSift && options_.sift_first_octave == 0)) {
+      feature_->detectAndCompute(image, cv::noArray(), *keypoints, *descriptors);
+      return;
+    }
+    cv::resize(image, half_, cv::Size(image.cols / 2, image.rows / 2), 0.0, 0.0, cv::INTER_AREA);
+    feature_->detectAndCompute(half_, cv::noArray(), *keypoints, *descriptors);
+    for (cv::KeyPoint& k : *keypoints) {
+      k.pt = {2.f * k.pt.x + 0.5f, 2.f * k.pt.y + 0.5f};
+      k.size *= 2.f;
+    }
+  }
 
   // Lucas–Kanade from the matched position: the earlier point stays, the later one moves to the
   // sub-pixel optimum of the local image patch.

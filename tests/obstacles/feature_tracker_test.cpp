@@ -60,6 +60,7 @@ std::vector<PointPair> Reference(const cv::Ptr<cv::Feature2D>& feature, int norm
 TEST(FeatureTracker, DescriptorMatchesEqualOpenCvReferenceMatching) {
   const cv::Mat a = TexturedImage(), b = Zoomed(a);
   FeatureOptions o;
+  o.sift_first_octave = -1;  // OpenCV's own SIFT (image doubled); the native first octave: below
   struct Case {
     Detector detector;
     cv::Ptr<cv::Feature2D> feature;
@@ -93,6 +94,48 @@ TEST(FeatureTracker, DescriptorMatchesEqualOpenCvReferenceMatching) {
     }
     EXPECT_GE(consistent, matches.size() * 9 / 10) << DetectorName(c.detector);
   }
+}
+
+// SIFT with a native first octave runs OpenCV's SIFT on the half-size images: the same matches as the
+// reference on those, mapped to full-size pixels (half-size pixel i covers 2i and 2i + 1), and they
+// follow the zoom in full-size coordinates.
+TEST(FeatureTracker, SiftNativeFirstOctaveIsSiftOnTheHalfImageMappedBack) {
+  const cv::Mat a = TexturedImage(), b = Zoomed(a);
+  FeatureOptions o;
+  o.detector = Detector::kSift;
+  o.sift_first_octave = 0;
+  const auto tracker = MakeFeatureTracker(o);
+  std::vector<Match> matches;
+  tracker->Track(a, b, &matches);
+  std::vector<PointPair> got;
+  for (const Match& m : matches) got.emplace_back(m.previous.x, m.previous.y, m.current.x, m.current.y);
+  std::sort(got.begin(), got.end());
+  cv::Mat ha, hb;
+  cv::resize(a, ha, cv::Size(128, 96), 0, 0, cv::INTER_AREA);
+  cv::resize(b, hb, cv::Size(128, 96), 0, 0, cv::INTER_AREA);
+  FeatureOptions half = o;
+  half.max_displacement_px = o.max_displacement_px / 2.0;
+  std::vector<PointPair> want;
+  for (const auto& [pu, pv, cu, cv_] :
+       Reference(cv::SIFT::create(o.max_features, o.sift_octave_layers, o.sift_contrast_threshold), cv::NORM_L2, ha, hb,
+                 half))
+    want.emplace_back(2.f * pu + 0.5f, 2.f * pv + 0.5f, 2.f * cu + 0.5f, 2.f * cv_ + 0.5f);
+  std::sort(want.begin(), want.end());
+  ASSERT_GE(want.size(), 20u);
+  ASSERT_EQ(got.size(), want.size());
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    EXPECT_NEAR(std::get<0>(got[i]), std::get<0>(want[i]), 1e-4f);
+    EXPECT_NEAR(std::get<1>(got[i]), std::get<1>(want[i]), 1e-4f);
+    EXPECT_NEAR(std::get<2>(got[i]), std::get<2>(want[i]), 1e-4f);
+    EXPECT_NEAR(std::get<3>(got[i]), std::get<3>(want[i]), 1e-4f);
+  }
+  std::vector<double> err;
+  for (const Match& m : matches) {
+    const cv::Point2f predicted = cv::Point2f(128.f, 120.f) + 1.03f * (m.previous - cv::Point2f(128.f, 120.f));
+    err.push_back(cv::norm(predicted - m.current));
+  }
+  std::sort(err.begin(), err.end());
+  EXPECT_LT(err[err.size() / 2], 0.5);
 }
 
 // KLT: corners tracked into the zoomed frame land where the zoom puts them (sub-pixel).

@@ -1,5 +1,5 @@
 // Constructed IPT geometry: a floor point gives D = 0, an elevated point the analytic D, a mirror
-// image a negative signed D; the horizon row for a known pitch (paper §6.2: v < 65).
+// image a negative signed D and a zero mirror-aware D; the horizon row for a known pitch (paper §6.2: v < 65).
 #include "squint/obstacles/ipt_geometry.hpp"
 
 #include <gtest/gtest.h>
@@ -70,6 +70,49 @@ TEST_P(IptGeometryTest, FloorPointHasZeroDiscrepancyAndElevatedPointTheAnalyticO
     ASSERT_TRUE(sd.has_value());
     EXPECT_NEAR(*sd, -moved * 0.3 / (cam.height_m + 0.3), 1e-9);
   }
+}
+
+// The mirror-aware discrepancy: the floor point of a static point moves by k·dC with k = 0 on the floor,
+// 0 < k < 1 for a mirror image below a specular floor and k < 0 above the floor; the distance to the
+// segment k ∈ [0, 1] is D above the floor and 0 for the floor and its reflections. A floor point
+// seen displaced sideways by 5 mm scores 5 mm; one displaced along the motion by 1.5·dC, 0.5·|dC|.
+TEST_P(IptGeometryTest, MirrorAwareDiscrepancyIsDAboveTheFloorAndZeroForReflections) {
+  const CameraModel cam = PaperCamera();
+  const auto [a, b] = GetParam();
+  const Eigen::Vector2d dc = b.Apply(cam.RobotCameraCentre().head<2>()) - a.Apply(cam.RobotCameraCentre().head<2>());
+  for (const Eigen::Vector3d base : {Eigen::Vector3d(1.5, 0.2, 0.0), Eigen::Vector3d(2.5, -0.4, 0.0)}) {
+    const Eigen::Vector2d ahead = a.Apply(base.head<2>());
+    for (double z : {0.0, -0.05, -0.3, -2.0}) {  // the floor and mirror images below it
+      const Eigen::Vector3d p(ahead.x(), ahead.y(), z);
+      const auto plain = Discrepancy(cam, a, See(cam, a, p), b, See(cam, b, p));
+      const auto m = MirrorAwareDiscrepancy(cam, a, See(cam, a, p), b, See(cam, b, p));
+      ASSERT_TRUE(plain && m);
+      EXPECT_NEAR(*plain, dc.norm() * -z / (cam.height_m - z), 1e-9) << "z " << z;
+      EXPECT_NEAR(*m, 0.0, 1e-9) << "z " << z;
+    }
+    for (double z : {0.05, 0.2, 0.35}) {  // above the floor: D itself
+      const Eigen::Vector3d p(ahead.x(), ahead.y(), z);
+      const auto plain = Discrepancy(cam, a, See(cam, a, p), b, See(cam, b, p));
+      const auto m = MirrorAwareDiscrepancy(cam, a, See(cam, a, p), b, See(cam, b, p));
+      ASSERT_TRUE(plain && m);
+      EXPECT_GT(*m, 0.0);
+      EXPECT_NEAR(*m, *plain, 1e-9) << "z " << z;
+    }
+    // Floor points seen where the later frame shows the floor 5 mm to the side of the motion, and
+    // 1.5·dC along it (more than any static point can move).
+    const Eigen::Vector3d floor_world(ahead.x(), ahead.y(), 0.0);
+    const Eigen::Vector2d side = Eigen::Vector2d(-dc.y(), dc.x()).normalized() * 0.005;
+    const Eigen::Vector3d shifted(ahead.x() + side.x(), ahead.y() + side.y(), 0.0);
+    const auto m_side = MirrorAwareDiscrepancy(cam, a, See(cam, a, floor_world), b, See(cam, b, shifted));
+    ASSERT_TRUE(m_side.has_value());
+    EXPECT_NEAR(*m_side, 0.005, 1e-9);
+    const Eigen::Vector3d beyond(ahead.x() + 1.5 * dc.x(), ahead.y() + 1.5 * dc.y(), 0.0);
+    const auto m_beyond = MirrorAwareDiscrepancy(cam, a, See(cam, a, floor_world), b, See(cam, b, beyond));
+    ASSERT_TRUE(m_beyond.has_value());
+    EXPECT_NEAR(*m_beyond, 0.5 * dc.norm(), 1e-9);
+  }
+  // No motion of the camera centre: undefined.
+  EXPECT_FALSE(MirrorAwareDiscrepancy(cam, a, {100, 150}, a, {100, 150}).has_value());
 }
 
 // The odometry epipolar residual: 0 for every static point (floor, elevated, mirror image below the

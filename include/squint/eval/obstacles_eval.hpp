@@ -23,6 +23,7 @@ struct ObstacleSample {
   int zone = 0;                         // 0–3
   std::optional<double> discrepancy_m;  // none above the horizon
   std::optional<double> signed_discrepancy_m;
+  std::optional<double> plain_discrepancy_m;  // D of eq. 4 (discrepancy_m is the classified one)
   double previous_u = 0.0, previous_v = 0.0;  // the match in the earlier frame
   double motion_epipolar_px = 0.0;            // MeasuredFeature::motion_epipolar_px
   bool obstacle = false;                // label mask at (u, v) is not floor
@@ -64,6 +65,7 @@ struct SequenceReport {
   std::map<std::string, std::size_t> skipped;
   double auc = 0.0;                    // D with above-horizon features as +inf
   double auc_below_horizon = 0.0;      // D of below-horizon features only
+  double auc_plain = 0.0;              // as `auc`, for the paper's D (eq. 4)
   double single_beta_m = 0.0;          // the single β applied (learned on the other sequences)
   ClassifierScore single;              // one β, no refinement
   obstacles::ClassifierOptions zone_classifier;  // learned on the other sequences
@@ -83,6 +85,7 @@ struct ObstacleEvalReport {
   Roc pooled_roc;           // all sequences together
   double pooled_auc_below_horizon = 0.0;
   double mean_auc = 0.0;    // mean of the per-sequence AUCs
+  double mean_auc_plain = 0.0;  // the same for the paper's D (eq. 4)
   double optimum_beta_m = 0.0;  // single β minimising FP + δ·FN over all sequences
   Confusion pooled_at_optimum;  // pooled, at that β
   obstacles::ClassifierOptions zone_classifier_all;  // zone β + refinement learned on all sequences

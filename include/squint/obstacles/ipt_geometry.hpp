@@ -32,6 +32,17 @@ std::optional<double> SignedDiscrepancy(const CameraModel& camera, const Pose2& 
                                         const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
                                         const Eigen::Vector2d& current_pixel);
 
+// The discrepancy with the floor hypothesis widened to mirror images: every static point's floor
+// point moves by dF = k·dC along the camera centre's motion dC, with k = 0 on the floor,
+// 0 < k < 1 for a mirror image below a specular floor (k = d / (h + d) at depth d) and k < 0 above
+// the floor (k = -z / (h - z)). Returns the distance from dF to the segment {k·dC : 0 <= k <= 1}
+// (metres): equal to D (eq. 4) for points above the floor, only the part of dF off the motion line
+// (noise) for floor points and their reflections. None where Discrepancy() has none or the camera
+// did not move.
+std::optional<double> MirrorAwareDiscrepancy(const CameraModel& camera, const Pose2& world_T_previous,
+                                             const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
+                                             const Eigen::Vector2d& current_pixel);
+
 // Epipolar residual of a correspondence under the motion known from odometry (paper §3.3's epipolar
 // constraint, with F fixed by the poses and the camera mount instead of estimated): every static
 // scene point — on the floor, above it, or a mirror image below it — has its two viewing rays in one

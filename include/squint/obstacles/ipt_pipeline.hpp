@@ -30,6 +30,9 @@ struct IptOptions {
   // With less translation than min_translation_m but more yaw change than this, the pair is a pure
   // rotation (reported separately: it is a common manoeuvre).
   double pure_rotation_deg = 0.5;
+  // The discrepancy the classifier thresholds: true = MirrorAwareDiscrepancy() (a floor point's
+  // reflection in a specular floor counts as floor), false = the paper's D (eq. 4).
+  bool mirror_aware = true;
 
   std::string Validate() const;
 };
@@ -43,7 +46,8 @@ struct MeasuredFeature {
   Eigen::Vector2d pixel;           // later frame, raw pixel
   Eigen::Vector2d previous_pixel;  // earlier frame, raw pixel
   int zone = 0;                    // 0–3 (3 = above the horizon)
-  std::optional<double> discrepancy_m;  // none in zone 3
+  std::optional<double> discrepancy_m;  // the classified discrepancy (IptOptions::mirror_aware); none in zone 3
+  std::optional<double> plain_discrepancy_m;   // D of eq. 4; none in zone 3
   std::optional<double> signed_discrepancy_m;  // SignedDiscrepancy(); none in zone 3
   std::optional<FeatureClass> cls;      // none when left unclassified by the refinement
   double motion_epipolar_px = 0.0;      // MotionEpipolarErrorPx() under the odometry motion
