@@ -28,6 +28,8 @@ TEST(ObstaclesYaml, RoundTripKeepsEveryMember) {
   o.classifier.refinement = false;
   o.classifier.zoning.dst_m = 2.0;
   o.min_translation_m = 0.002;
+  o.features.sift_first_octave = -1;
+  o.mirror_aware = false;
   const auto back = IptOptionsFromYaml(IptOptionsToYaml(o), "roundtrip");
   EXPECT_EQ(IptOptionsToYaml(back), IptOptionsToYaml(o));
   EXPECT_EQ(back.features.detector, obstacles::Detector::kKlt);
@@ -35,6 +37,8 @@ TEST(ObstaclesYaml, RoundTripKeepsEveryMember) {
   EXPECT_DOUBLE_EQ(*back.classifier.zones[1].refine_high_m, 0.0912345678);
   EXPECT_FALSE(back.classifier.zones[0].refine_high_m.has_value());
   EXPECT_FALSE(back.classifier.refinement);
+  EXPECT_EQ(back.features.sift_first_octave, -1);
+  EXPECT_FALSE(back.mirror_aware);
 }
 
 TEST(ObstaclesYaml, AbsentKeysKeepDefaults) {
@@ -54,6 +58,8 @@ TEST(ObstaclesYaml, MistakesNameTheFileAndKey) {
   EXPECT_NE(ErrorOf("fundamental: [1, 2]").find("fundamental"), std::string::npos);
   EXPECT_NE(ErrorOf("a: [unclosed").find("not valid YAML"), std::string::npos);
   EXPECT_NE(ErrorOf("min_translation_m: .nan").find("min_translation_m"), std::string::npos);
+  EXPECT_NE(ErrorOf("features: {sift_first_octave: 1}").find("sift_first_octave must be -1 or 0"), std::string::npos);
+  EXPECT_NE(ErrorOf("mirror_aware: maybe").find("mirror_aware"), std::string::npos);
   for (const char* t : {"features: {detector: surf}", "bogus: 1", "a: [unclosed"})
     EXPECT_EQ(ErrorOf(t).rfind("opts.yaml", 0), 0u) << t;
   EXPECT_THROW(LoadIptOptions("/nonexistent/opts.yaml"), Error);
