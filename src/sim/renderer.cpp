@@ -163,6 +163,13 @@ struct Renderer::Impl {
   std::vector<double> bin_near;      // per bin: nearest obstacle bounding circle
   // Per frame.
   double px = 0, py = 0, cyaw = 1, syaw = 0, cam_h = 0, frame_ceiling = 2.8;
+  // The view's horizontal wedge (robot frame), widened by a margin, for culling what cannot be
+  // seen: its right and left boundary directions, per margin (0: walls, 1: image outlines).
+  struct Wedge {
+    bool valid = false;  // narrower than a half turn
+    double rc = 1, rs = 0, lc = 1, ls = 0;
+  };
+  Wedge wedge[2];
 
   // --- construction -------------------------------------------------------------------------
   void Init(const World& w, const CameraModel& cam, const RenderOptions& opt) {
@@ -253,6 +260,14 @@ struct Renderer::Impl {
     for (int e = 0; e <= bins; ++e) {
       edge_c[e] = std::cos(a_min + e * d_a);
       edge_s[e] = std::sin(a_min + e * d_a);
+    }
+    // Margins: walls 1e-5 rad (the bearing table's tolerances are far smaller); image outlines
+    // two pixels (MarkPolygon marks pixels half a pixel beyond a polygon).
+    const double margins[2] = {1e-5, 2.0 / std::min(cam.fx, cam.fy)};
+    for (int q = 0; q < 2; ++q) {
+      const double lo_a = a_min - margins[q], hi_a = a_min + bins * d_a + margins[q];
+      wedge[q].valid = hi_a - lo_a < kPi - 1e-3;
+      wedge[q].rc = std::cos(lo_a), wedge[q].rs = std::sin(lo_a), wedge[q].lc = std::cos(hi_a), wedge[q].ls = std::sin(hi_a);
     }
     edge_wall.assign(bins + 1, -1);
     edge_t.assign(bins + 1, kInf);
@@ -432,6 +447,10 @@ struct Renderer::Impl {
       else ax = ws.coord, ay = ws.lo, bx = ws.coord, by = ws.hi;
       const double side = ws.along_x ? (py - ws.coord) * ws.normal.y() : (px - ws.coord) * ws.normal.x();
       if (side <= 1e-12) continue;  // seen from behind or edge-on
+      {
+        const double xs[2] = {ax, bx}, ys[2] = {ay, by};
+        if (OutsideWedge(0, xs, ys, 2)) continue;  // meets none of the table's rays
+      }
       double a0 = WrapPi(std::atan2(ay - py, ax - px) - yaw0);
       double a1 = WrapPi(std::atan2(by - py, bx - px) - yaw0);
       if (a0 > a1) std::swap(a0, a1);
@@ -495,6 +514,21 @@ struct Renderer::Impl {
         add(static_cast<int>(std::floor(lo / d_a)) - 1, static_cast<int>(std::ceil(hi / d_a)) + 1);
       }
     }
+  }
+
+  // Whether every one of the world points (xs[i], ys[i]) lies outside wedge q on one and the same
+  // side (so that their convex hull cannot be seen).
+  bool OutsideWedge(int q, const double* xs, const double* ys, int count) const {
+    const Wedge& w = wedge[q];
+    if (!w.valid) return false;
+    bool all_left = true, all_right = true;
+    for (int i = 0; i < count; ++i) {
+      const double wx = xs[i] - px, wy = ys[i] - py;
+      const double rx = cyaw * wx + syaw * wy, ry = -syaw * wx + cyaw * wy;  // robot frame
+      all_left = all_left && w.lc * ry - w.ls * rx > 0;   // counter-clockwise of the left boundary
+      all_right = all_right && w.rc * ry - w.rs * rx < 0;  // clockwise of the right boundary
+    }
+    return all_left || all_right;
   }
 
   // Horizontal distance along (dx, dy) from the camera to wall w; infinity when the ray misses it.
@@ -1018,6 +1052,7 @@ struct Renderer::Impl {
       if (side <= 1e-12) continue;
       for (double a : {ws.lo, ws.hi}) {
         const Eigen::Vector2d e = ws.along_x ? Eigen::Vector2d(a, ws.coord) : Eigen::Vector2d(ws.coord, a);
+        if (OutsideWedge(1, &e.x(), &e.y(), 1)) continue;  // would mark no pixel
         const Eigen::Vector3d pts[2] = {ToCamera(e.x(), e.y(), 0.0), ToCamera(e.x(), e.y(), ws.height_m)};
         MarkPolygon(pts, 2, (e - cam_xy).norm(), kMaskGeometry);
       }
@@ -1026,6 +1061,10 @@ struct Renderer::Impl {
     for (const Light& l : world.lights) {
       const double x0 = l.centre.x() - l.half_x, x1 = l.centre.x() + l.half_x;
       const double y0 = l.centre.y() - l.half_y, y1 = l.centre.y() + l.half_y;
+      {
+        const double xs[4] = {x0, x1, x1, x0}, ys[4] = {y0, y0, y1, y1};
+        if (OutsideWedge(1, xs, ys, 4)) continue;  // would mark no pixel
+      }
       const Eigen::Vector3d pts[4] = {ToCamera(x0, y0, l.z_m), ToCamera(x1, y0, l.z_m), ToCamera(x1, y1, l.z_m),
                                       ToCamera(x0, y1, l.z_m)};
       const double near = std::hypot(std::max({x0 - px, px - x1, 0.0}), std::max({y0 - py, py - y1, 0.0}));
@@ -1036,6 +1075,11 @@ struct Renderer::Impl {
       const WallSegment& ws = world.walls[d.wall];
       const double side = ws.along_x ? (py - ws.coord) * ws.normal.y() : (px - ws.coord) * ws.normal.x();
       if (side <= 1e-12) continue;
+      {
+        const double xs[2] = {ws.along_x ? d.lo : ws.coord, ws.along_x ? d.hi : ws.coord};
+        const double ys[2] = {ws.along_x ? ws.coord : d.lo, ws.along_x ? ws.coord : d.hi};
+        if (OutsideWedge(1, xs, ys, 2)) continue;  // would mark no pixel
+      }
       auto at = [&](double along, double z) {
         return ws.along_x ? ToCamera(along, ws.coord, z) : ToCamera(ws.coord, along, z);
       };
