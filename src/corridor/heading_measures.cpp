@@ -38,51 +38,110 @@ void SetFromPeak(const detail::Peak& peak, HeadingMeasureResult& out) {
   out.reason = Reason::kNone;
 }
 
-// Bit k set when counts[k] != 0, for count ≤ 64 counts.
-inline std::uint64_t OccupiedMask(const std::uint16_t* counts, int count) {
+// Joint histograms of kBins × kBins small counts (row = first variable, column = second),
+// `count` of them packed back to back. One helper clears them all.
+template <int kBins, typename Count>
+inline void ClearJointHistograms(Count* joint, int count) {
+  std::memset(joint, 0, sizeof(Count) * kBins * kBins * static_cast<std::size_t>(count));
+}
+
+// Bit k set when counts[k] != 0, for kCount ≤ 64 counts of 8 or 16 bits.
+template <int kCount, typename Count>
+inline std::uint64_t OccupiedMask(const Count* counts) {
+  static_assert(kCount <= 64);
   std::uint64_t mask = 0;
   int k = 0;
 #if defined(__SSE2__)
   const __m128i zero = _mm_setzero_si128();
-  for (; k + 16 <= count; k += 16) {
-    const __m128i lo = _mm_cmpeq_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(counts + k)), zero);
-    const __m128i hi = _mm_cmpeq_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(counts + k + 8)), zero);
-    const unsigned empty = static_cast<unsigned>(_mm_movemask_epi8(_mm_packs_epi16(lo, hi)));
-    mask |= static_cast<std::uint64_t>(~empty & 0xFFFFu) << k;
+  if constexpr (sizeof(Count) == 1) {
+    for (; k + 16 <= kCount; k += 16) {
+      const __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(counts + k));
+      const unsigned empty = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(c, zero)));
+      mask |= static_cast<std::uint64_t>(~empty & 0xFFFFu) << k;
+    }
+  } else {
+    for (; k + 16 <= kCount; k += 16) {
+      const __m128i lo = _mm_cmpeq_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(counts + k)), zero);
+      const __m128i hi = _mm_cmpeq_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(counts + k + 8)), zero);
+      const unsigned empty = static_cast<unsigned>(_mm_movemask_epi8(_mm_packs_epi16(lo, hi)));
+      mask |= static_cast<std::uint64_t>(~empty & 0xFFFFu) << k;
+    }
   }
 #endif
-  for (; k < count; ++k) mask |= static_cast<std::uint64_t>(counts[k] != 0) << k;
+  for (; k < kCount; ++k) mask |= static_cast<std::uint64_t>(counts[k] != 0) << k;
   return mask;
 }
 
-// Miller–Madow-corrected mutual information from a joint histogram with N < kNLogNTableSize
-// samples, using the n·log n table t: MI = (Σ t(n_ab) − Σ t(n_a) − Σ t(n_b) + t(N)) / N, minus the
-// bias (B_a − 1)(B_b − 1) / 2N of the plug-in estimate (B = occupied bins).
-// Only occupied bins are visited, in ascending index order: t(0) = 0 adds nothing, so the sum is
-// bit-identical to the full scan.
-inline double CorrectedMutualInformation(const std::uint16_t* joint, int bins, std::uint32_t n, const double* t) {
-  if (n == 0) return 0.0;
-  std::uint32_t row[kMaxVanishingBins] = {}, col[kMaxVanishingBins] = {};
-  double s = 0.0;
-  const int cells = bins * bins;
-  const int bits = std::countr_zero(static_cast<unsigned>(bins));
-  for (int base = 0; base < cells; base += 64) {
-    for (std::uint64_t mask = OccupiedMask(joint + base, std::min(64, cells - base)); mask != 0; mask &= mask - 1) {
-      const int k = base + std::countr_zero(mask);
-      const std::uint16_t c = joint[k];
-      row[k >> bits] += c;
-      col[k & (bins - 1)] += c;
-      s += t[c];
+// Row and column sums of a kBins × kBins joint histogram of n samples.
+template <int kBins, typename Count>
+inline void Marginals(const Count* joint, std::uint32_t n, std::uint32_t* row, std::uint32_t* col) {
+  if constexpr (sizeof(Count) == 1 && kBins >= 8) {
+    // 8-bit counts with n ≤ 255: eight cells per 64-bit word, added bytewise without carries
+    // (no sum exceeds n); a row's sum is the top byte of word × 0x0101010101010101.
+    if (n <= 255) {
+      constexpr int kWords = kBins / 8;
+      constexpr std::uint64_t kOnes = 0x0101010101010101ULL;
+      std::uint64_t col_words[kWords] = {};
+      for (int a = 0; a < kBins; ++a) {
+        std::uint64_t row_word = 0;
+        for (int w = 0; w < kWords; ++w) {
+          std::uint64_t word;
+          std::memcpy(&word, joint + a * kBins + 8 * w, 8);
+          col_words[w] += word;
+          row_word += word;
+        }
+        row[a] = static_cast<std::uint32_t>((row_word * kOnes) >> 56);
+      }
+      for (int b = 0; b < kBins; ++b) col[b] = static_cast<std::uint32_t>((col_words[b / 8] >> (8 * (b % 8))) & 0xFF);
+      return;
     }
   }
+  for (int a = 0; a < kBins; ++a) row[a] = col[a] = 0;
+  for (int a = 0; a < kBins; ++a)
+    for (int b = 0; b < kBins; ++b) {
+      row[a] += joint[a * kBins + b];
+      col[b] += joint[a * kBins + b];
+    }
+}
+
+// Miller–Madow-corrected mutual information from a kBins × kBins joint histogram with
+// N < kNLogNTableSize samples, using the n·log n table t: MI = (Σ t(n_ab) − Σ t(n_a) − Σ t(n_b) +
+// t(N)) / N, minus the bias (B_a − 1)(B_b − 1) / 2N of the plug-in estimate (B = occupied bins).
+// Only occupied cells are visited, in ascending index order: t(0) = 0 adds nothing, so the sum is
+// bit-identical to the full scan.
+template <int kBins, typename Count>
+inline double CorrectedMutualInformation(const Count* joint, std::uint32_t n, const double* t) {
+  constexpr int kCells = kBins * kBins;
+  if (n == 0) return 0.0;
+  std::uint32_t row[kBins], col[kBins];
+  Marginals<kBins>(joint, n, row, col);
+  double s = 0.0;
+  for (int base = 0; base < kCells; base += 64) {
+    constexpr int kChunk = kCells < 64 ? kCells : 64;
+    for (std::uint64_t mask = OccupiedMask<kChunk>(joint + base); mask != 0; mask &= mask - 1)
+      s += t[joint[base + std::countr_zero(mask)]];
+  }
   int ra = 0, cb = 0;
-  for (int a = 0; a < bins; ++a) {
+  for (int a = 0; a < kBins; ++a) {
     s -= t[row[a]] + t[col[a]];
     ra += row[a] > 0;
     cb += col[a] > 0;
   }
   s += t[n];
   return s / n - (ra - 1) * (cb - 1) / (2.0 * n);
+}
+
+// Calls kernel.template operator()<kBits>() for a bit depth 1..4 given at run time, so that the
+// histogram kernels see their bin count as a constant.
+template <typename Kernel>
+inline void WithBits(int bits, Kernel&& kernel) {
+  switch (bits) {
+    case 1: return kernel.template operator()<1>();
+    case 2: return kernel.template operator()<2>();
+    case 3: return kernel.template operator()<3>();
+    case 4: return kernel.template operator()<4>();
+  }
+  SQUINT_ENSURE(false, "histogram bit depth must be in [1, 4]");
 }
 
 // atan for the phase cue: a minimax polynomial on [−1, 1] (error < 2e-5 rad), folded outside.
@@ -126,52 +185,57 @@ void EntropyHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& out)
 // (x − d, v) with (x + d, v) for d = 1..D, D = min(half_width, x, 31 − x); axes with
 // D < min_half_width are not scored. The bias correction keeps narrow windows (few pairs, whose
 // plug-in MI is inflated) comparable with wide ones.
+namespace {
+
+// Symmetry scores of the axes first..last: every axis gets its own joint histogram, and the pairs
+// are counted distance by distance across all axes, so neighbouring increments fall in different
+// histograms (no store-to-load chains, nothing to merge). Count: uint8_t when no bin can exceed
+// 255 (half_width · rows ≤ 255), else uint16_t.
+template <int kBits, typename Count>
+void SymmetryCurve(const std::uint8_t* level, int first, int last, int half_width, bool significance,
+                   std::array<float, kW>& curve) {
+  constexpr int kBins = 1 << kBits, kCells = kBins * kBins;
+  alignas(16) Count joint[kW * kCells];
+  ClearJointHistograms<kBins>(joint + first * kCells, last - first + 1);
+  for (int v = 0; v < kH; ++v) {
+    const std::uint8_t* row = level + v * kW;
+    for (int d = 1; d <= half_width; ++d) {
+      const int xa = std::max(first, d), xb = std::min(last, kW - 1 - d);
+      const std::uint8_t* left = row + xa - d;
+      const std::uint8_t* right = row + xa + d;
+      Count* h = joint + xa * kCells;
+      for (int k = 0; k <= xb - xa; ++k, h += kCells) ++h[(left[k] << kBits) + right[k]];
+    }
+  }
+  const double* table = NLogNTable();
+  for (int x = first; x <= last; ++x) {
+    const int d_max = std::min({half_width, x, kW - 1 - x});
+    const double mi = CorrectedMutualInformation<kBins>(joint + x * kCells, static_cast<std::uint32_t>(d_max * kH), table);
+    curve[x] = static_cast<float>(significance ? mi * d_max / half_width : mi);
+  }
+}
+
+}  // namespace
+
 void SymmetryHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& out) const {
   out.cue = Cue();
   out.curve.fill(0.0f);
   if (g.Uniform()) return SetNoEstimate(out, Reason::kUniformFrame);
-  const int bins = 1 << options_.column_bits;
-  const int dmin = options_.symmetry_min_half_width_px;
-  const double* table = NLogNTable();
-  const bool significance = options_.symmetry_significance;
-  float lowest = 0.0f;
-  bool any = false;
-  int first = kW, last = -1;
-  for (int x = dmin; x <= kW - 1 - dmin; ++x) {
-    const int d_max = std::min({options_.symmetry_half_width_px, x, kW - 1 - x});
-    // Four interleaved histograms (one per row of a group of four) break the store-to-load
-    // chains of neighbouring pairs, which usually fall in the same bin.
-    // They are packed with stride bins², so only the used part is cleared.
-    std::uint16_t joint[4][kMaxColumnBins * kMaxColumnBins];
-    if (bins <= 8)
-      std::memset(joint, 0, sizeof(std::uint16_t) * 4 * 64);  // fixed size: inlined stores
+  const int half_width = options_.symmetry_half_width_px;
+  // Axes with D < min_half_width are not scored (Validate: min ≤ half width ≤ 15, so some are).
+  const int first = options_.symmetry_min_half_width_px, last = kW - 1 - first;
+  if (last < first) return SetNoEstimate(out, Reason::kFlatCurve);
+  const bool small_counts = half_width * kH <= 255;
+  WithBits(options_.column_bits, [&]<int kBits>() {
+    if (small_counts)
+      SymmetryCurve<kBits, std::uint8_t>(g.column_level.data(), first, last, half_width,
+                                         options_.symmetry_significance, out.curve);
     else
-      std::memset(joint, 0, sizeof(std::uint16_t) * 4 * bins * bins);
-    std::uint16_t* j0 = joint[0];
-    std::uint16_t* j1 = j0 + bins * bins;
-    std::uint16_t* j2 = j1 + bins * bins;
-    std::uint16_t* j3 = j2 + bins * bins;
-    for (int v = 0; v < kH; v += 4) {
-      const std::uint8_t* r0 = g.column_level.data() + v * kW + x;
-      const std::uint8_t* r1 = r0 + kW;
-      const std::uint8_t* r2 = r1 + kW;
-      const std::uint8_t* r3 = r2 + kW;
-      for (int d = 1; d <= d_max; ++d) {
-        ++j0[r0[-d] * bins + r0[d]];
-        ++j1[r1[-d] * bins + r1[d]];
-        ++j2[r2[-d] * bins + r2[d]];
-        ++j3[r3[-d] * bins + r3[d]];
-      }
-    }
-    for (int k = 0; k < bins * bins; ++k) j0[k] = static_cast<std::uint16_t>(j0[k] + j1[k] + j2[k] + j3[k]);
-    const double mi = CorrectedMutualInformation(j0, bins, static_cast<std::uint32_t>(d_max * kH), table);
-    out.curve[x] = static_cast<float>(significance ? mi * d_max / options_.symmetry_half_width_px : mi);
-    lowest = any ? std::min(lowest, out.curve[x]) : out.curve[x];
-    any = true;
-    first = std::min(first, x);
-    last = std::max(last, x);
-  }
-  if (!any) return SetNoEstimate(out, Reason::kFlatCurve);
+      SymmetryCurve<kBits, std::uint16_t>(g.column_level.data(), first, last, half_width,
+                                          options_.symmetry_significance, out.curve);
+  });
+  float lowest = out.curve[first];
+  for (int x = first; x <= last; ++x) lowest = std::min(lowest, out.curve[x]);
   // Unscored columns hold the lowest score so that they never look like peaks.
   for (int x = 0; x < kW; ++x)
     if (x < first || x > last) out.curve[x] = lowest;
@@ -294,6 +358,39 @@ void PhaseHeading::MeasureBalance(const PreparedGlance& g, HeadingMeasureResult&
   out.reason = Reason::kNone;
 }
 
+namespace {
+
+// Self-similarity scores of the half-size glance S placed at every horizontal offset and the rows
+// oy_lo..oy_hi: score[oy][ox] = corrected MI of S and the glance window under it. `small` holds
+// S's levels times kBins; `level` the glance's levels. All 17 offsets of a row are counted
+// together (one histogram each; each S pixel's 17 increments fall in different histograms), in
+// 8-bit counts (at most 16 × 12 = 192 per bin).
+template <int kBits>
+void VanishingScores(const std::uint8_t* small, const std::uint8_t* level, int oy_lo, int oy_hi,
+                     float (*score)[kW - kW / 2 + 1]) {
+  constexpr int kSw = kW / 2, kSh = kH / 2, kOx = kW - kSw + 1;
+  constexpr int kBins = 1 << kBits, kCells = kBins * kBins;
+  static_assert(kSw * kSh <= 255, "8-bit joint counts");
+  alignas(16) std::uint8_t joint[kOx * kCells];
+  const double* table = NLogNTable();
+  for (int oy = oy_lo; oy <= oy_hi; ++oy) {
+    ClearJointHistograms<kBins>(joint, kOx);
+    for (int j = 0; j < kSh; ++j) {
+      const std::uint8_t* a = small + j * kSw;
+      const std::uint8_t* b = level + (oy + j) * kW;
+      for (int i = 0; i < kSw; ++i) {
+        std::uint8_t* h = joint + a[i];
+        const std::uint8_t* bi = b + i;
+        for (int ox = 0; ox < kOx; ++ox) ++h[ox * kCells + bi[ox]];
+      }
+    }
+    for (int ox = 0; ox < kOx; ++ox)
+      score[oy][ox] = static_cast<float>(CorrectedMutualInformation<kBins>(joint + ox * kCells, kSw * kSh, table));
+  }
+}
+
+}  // namespace
+
 // ---------------------------------------------------------------------------------------------
 // f4: vanishing point by self-similarity (§4.1.4). The half-size glance S (2×2 means) placed at
 // offset (ox, oy) covers glance pixels ox..ox+15, oy..oy+11; S's pixel i has its centre at glance
@@ -325,45 +422,17 @@ void VanishingHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& ou
     oy_hi = std::clamp(static_cast<int>(std::ceil(centre + margin)), 0, kH - kSh);
   }
   constexpr int kOx = kW - kSw + 1;  // 17 offsets
-  float score[kOx][kH - kSh + 1];
-  bool done[kOx][kH - kSh + 1] = {};
-  const std::uint8_t* level = g.vanishing_level.data();
-  const double* table = NLogNTable();
-  auto evaluate = [&](int ox, int oy) -> float {
-    if (done[ox][oy]) return score[ox][oy];
-    // Four interleaved histograms break the store-to-load chains on repeated bins.
-    std::uint16_t joint[4][kMaxVanishingBins * kMaxVanishingBins];
-    if (bins <= 8)
-      std::memset(joint, 0, sizeof(std::uint16_t) * 4 * 64);  // fixed size: inlined stores
-    else
-      std::memset(joint, 0, sizeof(std::uint16_t) * 4 * bins * bins);
-    std::uint16_t* j0 = joint[0];
-    std::uint16_t* j1 = joint[0] + bins * bins;
-    std::uint16_t* j2 = j1 + bins * bins;
-    std::uint16_t* j3 = j2 + bins * bins;
-    for (int j = 0; j < kSh; ++j) {
-      const std::uint8_t* a = small + j * kSw;
-      const std::uint8_t* b = level + (oy + j) * kW + ox;
-      for (int i = 0; i < kSw; i += 4) {
-        ++j0[a[i] + b[i]];
-        ++j1[a[i + 1] + b[i + 1]];
-        ++j2[a[i + 2] + b[i + 2]];
-        ++j3[a[i + 3] + b[i + 3]];
-      }
-    }
-    for (int k = 0; k < bins * bins; ++k) j0[k] = static_cast<std::uint16_t>(j0[k] + j1[k] + j2[k] + j3[k]);
-    const float mi = static_cast<float>(CorrectedMutualInformation(j0, bins, kSw * kSh, table));
-    done[ox][oy] = true;
-    score[ox][oy] = mi;
-    return mi;
-  };
+  float score[kH - kSh + 1][kOx];
+  WithBits(options_.vanishing_bits, [&]<int kBits>() {
+    VanishingScores<kBits>(small, g.vanishing_level.data(), oy_lo, oy_hi, score);
+  });
   int best_ox = 0, best_oy = oy_lo;
   float best = -1e30f;
   // Every horizontal offset (the MI peak is about one offset wide, too sharp for a coarse grid)
   // over the bounded rows.
   for (int oy = oy_lo; oy <= oy_hi; ++oy) {
     for (int ox = 0; ox < kOx; ++ox) {
-      const float s = evaluate(ox, oy);
+      const float s = score[oy][ox];
       if (s > best) best = s, best_ox = ox, best_oy = oy;
     }
   }
@@ -371,8 +440,7 @@ void VanishingHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& ou
   std::array<float, kOx> by_ox{};
   by_ox.fill(-1e30f);
   for (int ox = 0; ox < kOx; ++ox)
-    for (int oy = oy_lo; oy <= oy_hi; ++oy)
-      if (done[ox][oy]) by_ox[ox] = std::max(by_ox[ox], score[ox][oy]);
+    for (int oy = oy_lo; oy <= oy_hi; ++oy) by_ox[ox] = std::max(by_ox[ox], score[oy][ox]);
   float lo = best;
   for (int ox = 0; ox < kOx; ++ox)
     if (by_ox[ox] > -1e29f) lo = std::min(lo, by_ox[ox]);
@@ -388,17 +456,16 @@ void VanishingHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& ou
   float sorted[kOx];
   int n = 0;
   for (int ox = 0; ox < kOx; ++ox) {
-    if (!done[ox][best_oy]) continue;
-    row_lo = std::min(row_lo, score[ox][best_oy]);
-    sorted[n++] = score[ox][best_oy];
+    row_lo = std::min(row_lo, score[best_oy][ox]);
+    sorted[n++] = score[best_oy][ox];
   }
   std::nth_element(sorted, sorted + n / 2, sorted + n);
   const double prominence = best > row_lo ? (best - sorted[n / 2]) / (best - row_lo) : 0.0;
   if (prominence < options_.min_prominence) return SetNoEstimate(out, Reason::kFlatCurve);
-  // Sub-pixel offset by a parabola through the neighbours (evaluated on demand).
+  // Sub-pixel offset by a parabola through the neighbours.
   double ox_refined = best_ox;
   if (best_ox > 0 && best_ox < kOx - 1) {
-    const double a = evaluate(best_ox - 1, best_oy), c = evaluate(best_ox + 1, best_oy);
+    const double a = score[best_oy][best_ox - 1], c = score[best_oy][best_ox + 1];
     const double denom = a - 2.0 * best + c;
     if (denom < 0.0) ox_refined += std::clamp(0.5 * (a - c) / denom, -0.5, 0.5);
   }
