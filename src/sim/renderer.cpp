@@ -132,6 +132,8 @@ struct Renderer::Impl {
     std::size_t offset = 0;
     int nu = 0, nz = 0;
     double lo = 0;  // the wall's start (its along-coordinate at column 0)
+    double fu_max = 0;          // nu - 2: the last column pair's start
+    const float* irr = nullptr;  // &wall_irr[offset], set once wall_irr is complete
   };
   std::vector<WallLight> wall_light;
   std::vector<float> wall_irr;
@@ -409,6 +411,11 @@ struct Renderer::Impl {
           wall_irr.push_back(static_cast<float>(Irradiance({p.x(), p.y(), z}, normal, visible)));
         }
       }
+    }
+
+    for (WallLight& wl : wall_light) {
+      wl.fu_max = wl.nu - 2.0;
+      wl.irr = wall_irr.data() + wl.offset;
     }
 
     // Obstacles: top and mean side irradiance.
@@ -708,11 +715,12 @@ struct Renderer::Impl {
   // light table, linear along the wall and nearest in height.
   [[gnu::always_inline]] double WallIrradiance(int w, double along, double z) const {
     const WallLight& wl = wall_light[w];
-    const double fu = std::clamp((along - wl.lo) * (1.0 / kWallCell), 0.0, wl.nu - 2.0);
+    const double fu = std::clamp((along - wl.lo) * (1.0 / kWallCell), 0.0, wl.fu_max);
     const int iu = static_cast<int>(fu);
-    const int iz = std::clamp(static_cast<int>(z * (1.0 / kWallCell) + 0.5), 0, wl.nz - 1);
-    const float* col = &wall_irr[wl.offset + static_cast<std::size_t>(iu) * wl.nz + iz];
-    return col[0] + (fu - iu) * (col[wl.nz] - col[0]);
+    const int nz = wl.nz;
+    const int iz = std::clamp(static_cast<int>(z * (1.0 / kWallCell) + 0.5), 0, nz - 1);
+    const float* col = wl.irr + (iu * nz + iz);
+    return col[0] + (fu - iu) * (col[nz] - col[0]);
   }
 
   // Samples on one plain region (no decal, flat item or light panel) of one plane: the sum of
