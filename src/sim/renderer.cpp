@@ -864,7 +864,7 @@ struct Renderer::Impl {
 
   // Written out for speed (the one-sample path); Describe + Eval give the same radiance, which
   // the adaptive-vs-full supersampling test checks.
-  double Shade(const Hit& hit, double ox, double oy, double oz, double dx, double dy, double k, int depth) const {
+  [[gnu::always_inline]] double Shade(const Hit& hit, double ox, double oy, double oz, double dx, double dy, double k, int depth) const {
     const double x = ox + dx * hit.r, y = oy + dy * hit.r;
     switch (hit.surf) {
       case Surf::kNone:
@@ -912,13 +912,8 @@ struct Renderer::Impl {
         }
         const double e = WallIrradiance(hit.id, along, z);
         const MatFast& m = mats[mat];
-        double radiance = m.albedo * Tex(mat, tu, tv) * e + m.emission * Tex(mat, tu, tv);
-        if (m.mirror > 0 && depth < 1) {
-          const double rdx = ws.along_x ? dx : -dx, rdy = ws.along_x ? -dy : dy;
-          const double nx = x + ws.normal.x() * 1e-6, ny = y + ws.normal.y() * 1e-6;
-          const Hit r = TraceFrom(nx, ny, z, rdx, rdy, k);
-          radiance = (1 - m.mirror) * radiance + m.mirror * Shade(r, nx, ny, z, rdx, rdy, k, depth + 1);
-        }
+        const double radiance = m.albedo * Tex(mat, tu, tv) * e + m.emission * Tex(mat, tu, tv);
+        if (m.mirror > 0 && depth < 1) return MirrorShade(radiance, m.mirror, hit.id, x, y, z, dx, dy, k, depth);
         return radiance;
       }
       case Surf::kObsSide: {
@@ -938,6 +933,17 @@ struct Renderer::Impl {
       }
     }
     return 0.0;
+  }
+
+  // A mirror's radiance: `radiance` (its own) mixed with the reflection of the ray (dx, dy, k)
+  // met at (x, y, z) on wall w. Out of line: Shade is inlined and this recursion must not be.
+  [[gnu::noinline]] double MirrorShade(double radiance, double mirror, int w, double x, double y, double z, double dx,
+                                       double dy, double k, int depth) const {
+    const WallSegment& ws = world.walls[w];
+    const double rdx = ws.along_x ? dx : -dx, rdy = ws.along_x ? -dy : dy;
+    const double nx = x + ws.normal.x() * 1e-6, ny = y + ws.normal.y() * 1e-6;
+    const Hit r = TraceFrom(nx, ny, z, rdx, rdy, k);
+    return (1 - mirror) * radiance + mirror * Shade(r, nx, ny, z, rdx, rdy, k, depth + 1);
   }
 
   // Mean radiance of a pixel's n×n samples, each traced in full.
