@@ -755,7 +755,7 @@ struct Renderer::Impl {
   }
 
   // What a hit looks like from (ox, oy, oz) along (dx, dy, k), mirrors left out (see Shade).
-  SurfPt Describe(const Hit& hit, double ox, double oy, double oz, double dx, double dy, double k) const {
+  [[gnu::always_inline]] SurfPt Describe(const Hit& hit, double ox, double oy, double oz, double dx, double dy, double k) const {
     SurfPt p;
     const bool plane = hit.surf == Surf::kFloor || hit.surf == Surf::kCeiling;  // (their hit.id is stale)
     p.key1 = static_cast<std::uint32_t>(hit.surf) << 24 | (plane ? 0xFFFFFFu : static_cast<std::uint32_t>(hit.id) & 0xFFFFFFu);

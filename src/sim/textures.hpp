@@ -2,7 +2,9 @@
 // holds kTexReps × kTexReps periods of its pattern at kTexSize² texels, mean value about 128.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -29,5 +31,32 @@ struct TextureTable {
 
 // Builds the table for a material; deterministic (fixed seeds per texture kind and name).
 TextureTable MakeTexture(const Material& m, std::uint32_t seed);
+
+// std::floor for the texel coordinates (|x| far below 2^62), without a libm call.
+inline std::int64_t FloorToInt(double x) {
+  const auto i = static_cast<std::int64_t>(x);  // truncates toward zero
+  return i - (static_cast<double>(i) > x);
+}
+
+// Inline: the renderer calls it once per adaptively shaded region.
+inline float TextureTable::BoxMean(double u0, double u1, double v0, double v1) const {
+  constexpr int kS = kTexSize + 1;
+  // Texel columns [x0, x1) and rows [y0, y1) meeting the box, at most one table wide.
+  const std::int64_t x0 = FloorToInt(u0 * inv_texel_m);
+  const std::int64_t y0 = FloorToInt(v0 * inv_texel_m);
+  const std::int64_t x1 = std::min<std::int64_t>(FloorToInt(u1 * inv_texel_m) + 1, x0 + kTexSize);
+  const std::int64_t y1 = std::min<std::int64_t>(FloorToInt(v1 * inv_texel_m) + 1, y0 + kTexSize);
+  // The periodic extension's prefix sum is S2(x, y) = qx qy T + qx C(ry) + qy R(rx) + S(rx, ry)
+  // with q = floor(x / kTexSize), r = x mod kTexSize, T the table total, C and R the sums of
+  // whole rows and columns; the box sum S2(x1,y1) - S2(x0,y1) - S2(x1,y0) + S2(x0,y0) groups into:
+  static_assert(kTexSize == 128, "the division by kTexSize shifts by 7");
+  const std::int64_t qx0 = x0 >> 7, qx1 = x1 >> 7, qy0 = y0 >> 7, qy1 = y1 >> 7;
+  const std::int64_t rx0 = x0 & (kTexSize - 1), rx1 = x1 & (kTexSize - 1), ry0 = y0 & (kTexSize - 1), ry1 = y1 & (kTexSize - 1);
+  const auto at = [&](std::int64_t i, std::int64_t j) { return static_cast<std::int64_t>(sat[j * kS + i]); };
+  const std::int64_t sum = (qx1 - qx0) * (qy1 - qy0) * at(kTexSize, kTexSize) +
+                           (qx1 - qx0) * (at(kTexSize, ry1) - at(kTexSize, ry0)) + (qy1 - qy0) * (at(rx1, kTexSize) - at(rx0, kTexSize)) +
+                           at(rx1, ry1) - at(rx0, ry1) - at(rx1, ry0) + at(rx0, ry0);
+  return static_cast<float>(static_cast<double>(sum) / static_cast<double>((x1 - x0) * (y1 - y0))) * gain;
+}
 
 }  // namespace squint::sim::detail
