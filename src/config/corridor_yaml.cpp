@@ -138,6 +138,15 @@ void ReadDistance(const YAML::Node& node, const std::string& source, corridor::D
   r.Get("ttc_baseline_fraction", d.ttc_baseline_fraction);
   r.Get("ttc_centre_at_horizon", d.ttc_centre_at_horizon);
   r.Get("ttc_gain_compensation", d.ttc_gain_compensation);
+  r.Get("ttc_scale_search", d.ttc_scale_search);
+  r.Get("ttc_max_scale", d.ttc_max_scale);
+  r.Get("ttc_window_half_width_m", d.ttc_window_half_width_m);
+  r.Get("ttc_window_height_factor", d.ttc_window_height_factor);
+  r.Get("ttc_window_min_px", d.ttc_window_min_px);
+  r.Get("ttc_initial_baseline_m", d.ttc_initial_baseline_m);
+  r.Get("ttc_area_glance", d.ttc_area_glance);
+  r.Get("ttc_min_contrast", d.ttc_min_contrast);
+  r.Get("ttc_min_ncc", d.ttc_min_ncc);
   r.CheckUnknown();
 }
 
@@ -254,6 +263,15 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
   e << YAML::Key << "ttc_baseline_fraction" << YAML::Value << d.ttc_baseline_fraction;
   e << YAML::Key << "ttc_centre_at_horizon" << YAML::Value << d.ttc_centre_at_horizon;
   e << YAML::Key << "ttc_gain_compensation" << YAML::Value << d.ttc_gain_compensation;
+  e << YAML::Key << "ttc_scale_search" << YAML::Value << d.ttc_scale_search;
+  e << YAML::Key << "ttc_max_scale" << YAML::Value << d.ttc_max_scale;
+  e << YAML::Key << "ttc_window_half_width_m" << YAML::Value << d.ttc_window_half_width_m;
+  e << YAML::Key << "ttc_window_height_factor" << YAML::Value << d.ttc_window_height_factor;
+  e << YAML::Key << "ttc_window_min_px" << YAML::Value << d.ttc_window_min_px;
+  e << YAML::Key << "ttc_initial_baseline_m" << YAML::Value << d.ttc_initial_baseline_m;
+  e << YAML::Key << "ttc_area_glance" << YAML::Value << d.ttc_area_glance;
+  e << YAML::Key << "ttc_min_contrast" << YAML::Value << d.ttc_min_contrast;
+  e << YAML::Key << "ttc_min_ncc" << YAML::Value << d.ttc_min_ncc;
   e << YAML::EndMap;
   e << YAML::Key << "gate" << YAML::Value << YAML::BeginMap << YAML::Key << "enabled" << YAML::Value
     << o.gate.enabled << YAML::Key << "threshold" << YAML::Value << o.gate.threshold << YAML::Key

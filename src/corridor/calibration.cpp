@@ -324,8 +324,9 @@ DistanceSpread FitDistanceSpread(std::span<const double> estimates_m, std::span<
   }
   DistanceSpread s;
   if (x.empty()) return s;
+  // Robust (Theil–Sen start, 3σ trimming): a few wild estimates far beyond the range (a cue
+  // matching nothing on a plain wall) would otherwise tilt the line to σ ≈ d̂ for every cue.
   LineFitOptions plain;
-  plain.trim_iterations = 0;
   plain.min_samples = 2;
   try {
     const LineFit f = FitLine(x, y, "spread", plain);

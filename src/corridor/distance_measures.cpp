@@ -3,6 +3,8 @@
 #include "squint/corridor/distance_measures.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <span>
 
@@ -154,6 +156,133 @@ void TimeToContactDistance::MeasureBaseline(const Glance& earlier, const Glance&
   if (tau_frames <= 0.0) return SetNoEstimate(out, Reason::kNotApproaching);
   if (!travelled_m || !(*travelled_m > 0.0)) return SetNoEstimate(out, Reason::kNoTravel);
   SetInput(*this, tau_frames * *travelled_m - 0.5 * *travelled_m, out);
+}
+
+namespace {
+
+// Sums for the NCC of one candidate scale: Σx, Σx², Σxy over the window, x the magnified
+// earlier glance (bilinear), y the current one.
+struct NccSums {
+  float sx = 0.0f, sxx = 0.0f, sxy = 0.0f;
+};
+
+// The window of the current glance and its own sums, shared by every candidate scale.
+struct ScaleWindow {
+  int u0, u1, v0, v1;
+  double n, sy, syy;
+};
+
+NccSums SumScale(const Glance& earlier, const Glance& current, const ScaleWindow& w, double cx, double cy,
+                 double scale) {
+  const float inv = static_cast<float>(1.0 / scale);
+  const float fcx = static_cast<float>(cx), fcy = static_cast<float>(cy);
+  NccSums s;
+  for (int v = w.v0; v <= w.v1; ++v) {
+    // Sources lie between the centre and p, so inside the glance; clamp for the bilinear cell.
+    const float sy = std::clamp(fcy + (static_cast<float>(v) - fcy) * inv, 0.0f, kH - 1.001f);
+    const int y0 = static_cast<int>(sy);
+    const float fy = sy - static_cast<float>(y0);
+    const std::uint8_t* r0 = earlier.pixels.data() + y0 * kW;
+    const std::uint8_t* r1 = r0 + kW;
+    const std::uint8_t* cur = current.pixels.data() + v * kW;
+    for (int u = w.u0; u <= w.u1; ++u) {
+      const float sx = std::clamp(fcx + (static_cast<float>(u) - fcx) * inv, 0.0f, kW - 1.001f);
+      const int x0 = static_cast<int>(sx);
+      const float fx = sx - static_cast<float>(x0);
+      const float top = r0[x0] + fx * static_cast<float>(r0[x0 + 1] - r0[x0]);
+      const float bottom = r1[x0] + fx * static_cast<float>(r1[x0 + 1] - r1[x0]);
+      const float x = top + fy * (bottom - top);
+      s.sx += x;
+      s.sxx += x * x;
+      s.sxy += x * static_cast<float>(cur[u]);
+    }
+  }
+  return s;
+}
+
+double Ncc(const NccSums& s, const ScaleWindow& w) {
+  const double cxx = s.sxx - static_cast<double>(s.sx) * s.sx / w.n;
+  const double cxy = s.sxy - static_cast<double>(s.sx) * w.sy / w.n;
+  const double cyy = w.syy - w.sy * w.sy / w.n;
+  if (!(cxx > 0.0) || !(cyy > 0.0)) return -2.0;
+  return cxy / std::sqrt(cxx * cyy);
+}
+
+}  // namespace
+
+std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& current, double cx, double cy,
+                                         double half_width_px, double half_height_px, double max_scale) {
+  if (!std::isfinite(cx) || !std::isfinite(cy) || !(max_scale > 1.0)) return std::nullopt;
+  ScaleWindow w{};
+  w.u0 = std::max(0, static_cast<int>(std::ceil(cx - half_width_px)));
+  w.u1 = std::min(kW - 1, static_cast<int>(std::floor(cx + half_width_px)));
+  w.v0 = std::max(0, static_cast<int>(std::ceil(cy - half_height_px)));
+  w.v1 = std::min(kH - 1, static_cast<int>(std::floor(cy + half_height_px)));
+  if (w.u1 < w.u0 || w.v1 < w.v0) return std::nullopt;
+  w.n = static_cast<double>((w.u1 - w.u0 + 1) * (w.v1 - w.v0 + 1));
+  if (w.n < 12.0) return std::nullopt;
+  w.sy = w.syy = 0.0;
+  for (int v = w.v0; v <= w.v1; ++v)
+    for (int u = w.u0; u <= w.u1; ++u) {
+      const double y = current.At(u, v);
+      w.sy += y;
+      w.syy += y * y;
+    }
+  const auto ncc = [&](double scale) { return Ncc(SumScale(earlier, current, w, cx, cy, scale), w); };
+  // Coarse grid, then a fine grid around its best, then a parabola through the fine best.
+  constexpr double kCoarse = 0.01, kFine = 0.001;
+  const int n_coarse = static_cast<int>(std::ceil((max_scale - 1.0) / kCoarse - 1e-9));
+  double best_scale = 1.0, best = ncc(1.0);
+  for (int i = 1; i <= n_coarse; ++i) {
+    const double sc = std::min(max_scale, 1.0 + i * kCoarse);
+    const double r = ncc(sc);
+    if (r > best) best = r, best_scale = sc;
+  }
+  if (best <= -2.0) return std::nullopt;  // a uniform side
+  const double centre = best_scale;
+  std::array<double, 21> fine{};
+  int best_i = 10;
+  for (int i = 0; i < 21; ++i) {
+    const double sc = centre + (i - 10) * kFine;
+    fine[i] = (sc < 1.0 || sc > max_scale) ? -3.0 : (i == 10 ? best : ncc(sc));
+    if (fine[i] > fine[best_i]) best_i = i;
+  }
+  best = fine[best_i];
+  best_scale = centre + (best_i - 10) * kFine;
+  if (best_i > 0 && best_i < 20 && fine[best_i - 1] > -3.0 && fine[best_i + 1] > -3.0) {
+    const double a = fine[best_i - 1], b = fine[best_i], c = fine[best_i + 1];
+    const double denom = a - 2.0 * b + c;
+    if (denom < 0.0) best_scale += kFine * std::clamp(0.5 * (a - c) / denom, -0.5, 0.5);
+  }
+  const double var = std::max(0.0, w.syy / w.n - (w.sy / w.n) * (w.sy / w.n));
+  return ScaleMatch{std::clamp(best_scale, 1.0, max_scale), best, std::sqrt(var)};
+}
+
+void TimeToContactDistance::MeasureScale(const Glance& earlier, const Glance& current, int baseline_frames,
+                                         std::optional<double> travelled_m, std::optional<double> reference_m,
+                                         DistanceMeasureResult& out) const {
+  Clear(out, Cue());
+  out.baseline_frames = baseline_frames;
+  if (earlier.pixels == current.pixels) return SetNoEstimate(out, Reason::kIdenticalFrames);
+  double half_w = kW, half_h = kH;
+  if (reference_m && *reference_m > 0.0 && focal_px_ > 0.0) {
+    const double lo = options_.ttc_window_min_px;
+    half_w = std::clamp(options_.ttc_window_half_width_m * focal_px_ / *reference_m, lo, double{kW});
+    if (camera_height_m_ > 0.0)
+      half_h = std::clamp(options_.ttc_window_height_factor * camera_height_m_ * focal_px_ / *reference_m,
+                          lo * 0.67, double{kH});
+    else
+      half_h = std::max(lo * 0.67, 0.75 * half_w);
+  }
+  const std::optional<ScaleMatch> m =
+      ExpansionScale(earlier, current, cx_, cy_, half_w, half_h, options_.ttc_max_scale);
+  if (!m || m->contrast < options_.ttc_min_contrast || m->ncc < options_.ttc_min_ncc)
+    return SetNoEstimate(out, Reason::kZeroGradient);
+  out.raw = m->scale - 1.0;
+  if (!(m->scale > 1.0)) return SetNoEstimate(out, Reason::kNotApproaching);
+  if (m->scale >= options_.ttc_max_scale) return SetNoEstimate(out, Reason::kOutOfRange);
+  if (!travelled_m || !(*travelled_m > 0.0)) return SetNoEstimate(out, Reason::kNoTravel);
+  SetInput(*this, *travelled_m / (m->scale - 1.0), out);
 }
 
 std::optional<double> TimeToContactDistance::Distance(double model_input) const {

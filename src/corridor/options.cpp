@@ -122,6 +122,18 @@ std::string DistanceOptions::Validate() const {
   }
   if (median_frames < 1 || median_frames > kMaxDistanceMedianFrames)
     e << "distance.median_frames must be in [1, " << kMaxDistanceMedianFrames << "]; ";
+  if (!Finite(ttc_max_scale) || ttc_max_scale <= 1.0 || ttc_max_scale > 4.0)
+    e << "distance.ttc_max_scale must be in (1, 4]; ";
+  if (!Finite(ttc_window_half_width_m) || ttc_window_half_width_m <= 0.0)
+    e << "distance.ttc_window_half_width_m must be positive; ";
+  if (!Finite(ttc_window_height_factor) || ttc_window_height_factor <= 0.0)
+    e << "distance.ttc_window_height_factor must be positive; ";
+  if (!Finite(ttc_window_min_px) || ttc_window_min_px < 1.0 || ttc_window_min_px > kGlanceWidth)
+    e << "distance.ttc_window_min_px must be in [1, " << kGlanceWidth << "]; ";
+  if (!Finite(ttc_initial_baseline_m) || ttc_initial_baseline_m <= 0.0)
+    e << "distance.ttc_initial_baseline_m must be positive; ";
+  if (!Finite(ttc_min_contrast) || ttc_min_contrast < 0.0) e << "distance.ttc_min_contrast must be >= 0; ";
+  if (!Finite(ttc_min_ncc) || ttc_min_ncc < -1.0 || ttc_min_ncc > 1.0) e << "distance.ttc_min_ncc must be in [-1, 1]; ";
   if (ttc_max_baseline_frames < 1 || ttc_max_baseline_frames > kMaxTtcBaselineFrames)
     e << "distance.ttc_max_baseline_frames must be in [1, " << kMaxTtcBaselineFrames << "]; ";
   if (!Finite(ttc_baseline_fraction) || ttc_baseline_fraction <= 0.0 || ttc_baseline_fraction > 1.0)

@@ -60,7 +60,9 @@ Perceiver::Perceiver(const Options& options, std::optional<CameraModel> camera)
   // camera's pitch is known.
   const double ttc_cy =
       (options_.distance.ttc_centre_at_horizon && horizon_row) ? *horizon_row : glance_camera_.cy;
-  distance_measures_[0] = std::make_unique<TimeToContactDistance>(options_.distance, glance_camera_.cx, ttc_cy);
+  distance_measures_[0] = std::make_unique<TimeToContactDistance>(
+      options_.distance, glance_camera_.cx, ttc_cy, has_intrinsics_ ? glance_camera_.fx : 0.0,
+      has_intrinsics_ ? glance_camera_.height_m : 0.0);
   distance_measures_[1] = std::make_unique<JeffreyDistance>(options_.distance);
   distance_measures_[2] = std::make_unique<EntropyDistance>(options_.distance);
 }
@@ -163,10 +165,28 @@ void Perceiver::FuseHeadingCurves(PerceptionResult& result) const {
 PerceptionResult Perceiver::Process(const PixelView& frame, std::optional<double> travelled_m, double dt_s) {
   Glance glance;
   MakeGlance(frame, options_.sampling, glance);
-  return ProcessGlance(glance, travelled_m, dt_s);
+  const DistanceOptions& d = options_.distance;
+  constexpr int kTtc = static_cast<int>(DistanceCue::kTimeToContact);
+  if (d.ttc_area_glance && options_.sampling != GlanceSampling::kArea && d.enabled[kTtc] && d.weights[kTtc] > 0.0) {
+    MakeGlance(frame, GlanceSampling::kArea, area_glance_);
+    return ProcessImpl(glance, area_glance_, travelled_m, dt_s);
+  }
+  return ProcessImpl(glance, glance, travelled_m, dt_s);
 }
 
 PerceptionResult Perceiver::ProcessGlance(const Glance& glance, std::optional<double> travelled_m, double dt_s) {
+  return ProcessImpl(glance, glance, travelled_m, dt_s);
+}
+
+void Perceiver::PushHistory(const Glance& g) {
+  history_head_ = (history_head_ + 1) % static_cast<int>(history_.size());
+  history_[history_head_] = g;
+  history_travel_m_[history_head_] = travel_m_;
+  history_count_ = std::min(history_count_ + 1, static_cast<int>(history_.size()));
+}
+
+PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_glance,
+                                        std::optional<double> travelled_m, double dt_s) {
   PerceptionResult result;
   for (int i = 0; i < kHeadingCueCount; ++i) result.heading[i].cue = static_cast<HeadingCue>(i);
   for (int i = 0; i < kDistanceCueCount; ++i) result.distance[i].cue = static_cast<DistanceCue>(i);
@@ -186,10 +206,7 @@ PerceptionResult Perceiver::ProcessGlance(const Glance& glance, std::optional<do
   if (travelled && *travelled < kMinDrivingTravelM) ResetDistanceHistory();
   if (travelled) travel_m_ += std::max(0.0, *travelled);
   if (!process) {
-    history_head_ = (history_head_ + 1) % static_cast<int>(history_.size());
-    history_[history_head_] = glance;
-    history_travel_m_[history_head_] = travel_m_;
-    history_count_ = std::min(history_count_ + 1, static_cast<int>(history_.size()));
+    PushHistory(ttc_glance);
     // Skipped frames still become the previous frame of the next one, so consecutive-frame
     // measures always compare neighbouring frames.
     current_ = next;
@@ -217,14 +234,11 @@ PerceptionResult Perceiver::ProcessGlance(const Glance& glance, std::optional<do
   }
 
   if (had_previous) {
-    MeasureDistances(prev, cur, travelled, result);
+    MeasureDistances(prev, cur, ttc_glance, travelled, result);
   } else {
     for (DistanceMeasureResult& d : result.distance) d.reason = Reason::kNoPreviousFrame;
   }
-  history_head_ = (history_head_ + 1) % static_cast<int>(history_.size());
-  history_[history_head_] = glance;
-  history_travel_m_[history_head_] = travel_m_;
-  history_count_ = std::min(history_count_ + 1, static_cast<int>(history_.size()));
+  PushHistory(ttc_glance);
   Fuse(result);
   current_ = next;
   has_previous_ = true;
@@ -249,7 +263,7 @@ std::optional<double> Perceiver::PushAndMedian(CueWindow& w, std::optional<doubl
   return med;
 }
 
-void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlance& cur,
+void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlance& cur, const Glance& ttc_glance,
                                  std::optional<double> travelled, PerceptionResult& result) {
   const DistanceOptions& o = options_.distance;
   const int n_hist = static_cast<int>(history_.size());
@@ -260,14 +274,34 @@ void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlanc
       continue;
     }
     const bool ttc = static_cast<DistanceCue>(i) == DistanceCue::kTimeToContact;
-    if (ttc && history_count_ > 0) {
+    if (ttc && history_count_ > 0 && o.ttc_scale_search) {
+      // The longest baseline (history_[head - k + 1] is k frames back) whose travel stays within
+      // ttc_baseline_fraction of the last filtered distance, or within ttc_initial_baseline_m
+      // before there is one.
+      const auto& measure = static_cast<const TimeToContactDistance&>(*distance_measures_[i]);
+      const double max_travel =
+          last_ttc_input_m_ ? o.ttc_baseline_fraction * *last_ttc_input_m_ : o.ttc_initial_baseline_m;
+      const int max_k = std::min(o.ttc_max_baseline_frames, history_count_);
+      int k = 1;
+      for (int kk = max_k; kk > 1; --kk) {
+        const int idx = ((history_head_ - kk + 1) % n_hist + n_hist) % n_hist;
+        if (travel_m_ - history_travel_m_[idx] <= max_travel) {
+          k = kk;
+          break;
+        }
+      }
+      const int idx = ((history_head_ - k + 1) % n_hist + n_hist) % n_hist;
+      std::optional<double> s;
+      if (travelled) s = travel_m_ - history_travel_m_[idx];
+      measure.MeasureScale(history_[idx], ttc_glance, k, s, last_ttc_input_m_, d);
+    } else if (ttc && history_count_ > 0) {
       const auto& measure = static_cast<const TimeToContactDistance&>(*distance_measures_[i]);
       // The one-frame time to contact, median-filtered on its own: a reference for the
       // baseline that cannot run away (a too-long baseline decorrelates the glances near the
       // end and returns a large τ, which would lengthen the baseline further).
       std::optional<double> s1;
       if (travelled) s1 = travel_m_ - history_travel_m_[history_head_];
-      measure.MeasureBaseline(history_[history_head_], cur.glance, 1, s1, d);
+      measure.MeasureBaseline(history_[history_head_], ttc_glance, 1, s1, d);
       std::optional<double> short_input = d.model_input;
       if (!short_input && d.raw && *d.raw <= 0.0 && travelled) short_input = HUGE_VAL;
       const std::optional<double> short_median = PushAndMedian(short_window_, short_input, false);
@@ -289,7 +323,7 @@ void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlanc
         const int idx = ((history_head_ - k + 1) % n_hist + n_hist) % n_hist;
         std::optional<double> s;
         if (travelled) s = travel_m_ - history_travel_m_[idx];
-        measure.MeasureBaseline(history_[idx], cur.glance, k, s, d);
+        measure.MeasureBaseline(history_[idx], ttc_glance, k, s, d);
       }
     } else {
       distance_measures_[i]->Measure(prev, cur, travelled, d);
@@ -302,7 +336,10 @@ void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlanc
     const std::optional<double> median = PushAndMedian(cue_windows_[i], input, ttc);
     if (!median) continue;
     const double med = *median;
-    if (!std::isfinite(med)) continue;  // mostly "very far": no estimate
+    if (!std::isfinite(med)) {  // mostly "very far": no estimate, the longest baseline next
+      if (ttc) last_ttc_input_m_ = o.max_m;
+      continue;
+    }
     d.filtered_input = med;
     if (ttc) last_ttc_input_m_ = med;
     d.dist_m = distance_measures_[i]->Distance(med);

@@ -79,6 +79,31 @@ TEST(PerceiverDistance, MedianRejectsAnOutlierFrameAndRestartsWhenStopped) {
   EXPECT_EQ(r.Distance(DistanceCue::kTimeToContact).baseline_frames, 1);
 }
 
+TEST(PerceiverDistance, ScaleSearchTracksAnApproachThroughGainJumps) {
+  // Every other frame 15 % brighter (automatic gain): the default time to contact (the scale
+  // search, NCC) tracks the approach within 5 % of the distance.
+  CorridorOptions o = DistanceOnly();
+  ASSERT_TRUE(o.distance.ttc_scale_search);
+  const double step = 0.05;
+  {
+    Perceiver perceiver(o, std::nullopt);
+    double sum2 = 0.0;
+    int n = 0;
+    for (int i = 0; i <= 60; ++i) {
+      const double z = 12.0 - step * i;
+      Glance g = PlaneAt(z);
+      if (i % 2 == 1)
+        for (auto& p : g.pixels) p = static_cast<std::uint8_t>(std::lround(std::min(255.0, 1.15 * p)));
+      const PerceptionResult r = perceiver.ProcessGlance(g, i == 0 ? std::nullopt : std::optional(step), 0.1);
+      if (i < 12) continue;
+      const double e = r.dist_end_m ? *r.dist_end_m - z : z;  // no estimate counts as the whole distance
+      sum2 += e * e;
+      ++n;
+    }
+    EXPECT_LT(std::sqrt(sum2 / n), 0.05 * 10.0);
+  }
+}
+
 TEST(PerceiverDistance, FusionWeightFallsWithTheCueErrorGrowth) {
   // Two cues at different distances: with growth the nearer estimate weighs more.
   CorridorOptions o = DistanceOnly();

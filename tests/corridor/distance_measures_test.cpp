@@ -143,6 +143,99 @@ TEST(TimeToContact, GainCompensationIgnoresABrightnessChange) {
   EXPECT_NEAR(*TimeToContactFrames(a, c, cx, cy, true), *TimeToContactFrames(a, c, cx, cy, false), 0.05 * expected);
 }
 
+// A brick-like texture of periods 5–9 pixels (the drives' end walls), seen magnified by `scale`
+// about (cx, cy): a small window about the centre still holds several periods.
+Glance TexturedPattern(double scale, double cx, double cy) {
+  Glance g;
+  for (int v = 0; v < kGlanceHeight; ++v)
+    for (int u = 0; u < kGlanceWidth; ++u) {
+      const double x = (u - cx) / scale, y = (v - cy) / scale;
+      const double value = 128.0 + 45.0 * std::sin(0.9 * x + 0.3 * y) + 35.0 * std::cos(0.7 * y - 0.4 * x + 0.5) +
+                           25.0 * std::sin(1.1 * y + 0.2);
+      g.At(u, v) = static_cast<std::uint8_t>(std::lround(std::clamp(value, 0.0, 255.0)));
+    }
+  return g;
+}
+
+// The scale search (the default time to contact): the magnification of a glance scaled about a
+// known point, whatever the gain and offset of the second frame.
+TEST(ExpansionScale, RecoversAKnownMagnificationDespiteAGainChange) {
+  const double cx = 15.5, cy = 10.0;
+  for (double k : {1.02, 1.05, 1.12, 1.3}) {
+    const Glance a = SmoothPattern(1.0, cx, cy);
+    Glance b = SmoothPattern(k, cx, cy);
+    const auto m = ExpansionScale(a, b, cx, cy, 32, 24, 1.5);
+    ASSERT_TRUE(m.has_value()) << "k = " << k;
+    EXPECT_NEAR(m->scale, k, 0.004) << "k = " << k;
+    EXPECT_GT(m->ncc, 0.99);
+    // 15 % brighter minus 8 grey levels (the webcam gain jumps of ../shared/data/drive-*).
+    for (auto& p : b.pixels) p = static_cast<std::uint8_t>(std::lround(std::clamp(1.15 * p - 8.0, 0.0, 255.0)));
+    const auto g = ExpansionScale(a, b, cx, cy, 32, 24, 1.5);
+    ASSERT_TRUE(g.has_value());
+    EXPECT_NEAR(g->scale, k, 0.004) << "k = " << k << " with a gain change";
+  }
+}
+
+TEST(ExpansionScale, WindowContractionAndDegenerateInputs) {
+  const double cx = 15.5, cy = 11.5;
+  const Glance a = SmoothPattern(1.0, cx, cy);
+  // A 13 × 9 window about the centre (the end wall at ~10 m) still finds the scale.
+  const auto small =
+      ExpansionScale(TexturedPattern(1.0, cx, cy), TexturedPattern(1.08, cx, cy), cx, cy, 6, 4, 1.5);
+  ASSERT_TRUE(small.has_value());
+  EXPECT_NEAR(small->scale, 1.08, 0.01);
+  // A contracting image (driving away) has its best match at 1: no expansion.
+  const auto away = ExpansionScale(SmoothPattern(1.1, cx, cy), a, cx, cy, 32, 24, 1.5);
+  ASSERT_TRUE(away.has_value());
+  EXPECT_DOUBLE_EQ(away->scale, 1.0);
+  // A uniform frame, a window under 12 pixels, a non-finite centre: none.
+  Glance flat;
+  flat.pixels.fill(90);
+  EXPECT_FALSE(ExpansionScale(a, flat, cx, cy, 32, 24, 1.5).has_value());
+  EXPECT_FALSE(ExpansionScale(a, a, cx, cy, 1, 1, 1.5).has_value());
+  EXPECT_FALSE(ExpansionScale(a, a, std::nan(""), cy, 32, 24, 1.5).has_value());
+  EXPECT_FALSE(ExpansionScale(a, a, cx, cy, 32, 24, 1.0).has_value());
+}
+
+TEST(TimeToContact, ScaleSearchGivesTheCurrentDistanceAndRefusesPlainWalls) {
+  // 4 frames of 0.1 m: the plane is 10 m from the current frame, 10.4 m from the earlier one.
+  const double cx = 15.5, cy = 11.5;
+  const Glance earlier = TexturedPattern(1.0, cx, cy);
+  const Glance current = TexturedPattern(10.4 / 10.0, cx, cy);
+  DistanceOptions options;
+  // Glance focal length 40 px, camera 1 m high: at a reference of 10 m the window is ±6 × ±4.
+  const TimeToContactDistance ttc(options, cx, cy, 40.0, 1.0);
+  DistanceMeasureResult r;
+  ttc.MeasureScale(earlier, current, 4, 0.4, 10.0, r);
+  ASSERT_TRUE(r.dist_m.has_value()) << ReasonText(r.reason);
+  EXPECT_NEAR(*r.dist_m, 10.0, 0.5);
+  EXPECT_EQ(r.baseline_frames, 4);
+  ASSERT_TRUE(r.raw.has_value());
+  EXPECT_NEAR(*r.raw, 0.04, 0.002);  // σ − 1
+  EXPECT_DOUBLE_EQ(*r.model_input, 0.4 / *r.raw);
+  // No reference yet: the whole glance, the same answer.
+  ttc.MeasureScale(earlier, current, 4, 0.4, std::nullopt, r);
+  ASSERT_TRUE(r.dist_m.has_value());
+  EXPECT_NEAR(*r.dist_m, 10.0, 0.5);
+  // A plain wall close up (contrast below ttc_min_contrast): no estimate, not "very far".
+  Glance plain;
+  for (int i = 0; i < kGlancePixels; ++i) plain.pixels[i] = static_cast<std::uint8_t>(200 + (i % 2));
+  ttc.MeasureScale(plain, plain, 1, 0.1, 1.0, r);
+  EXPECT_EQ(r.reason, Reason::kIdenticalFrames);
+  Glance plain2 = plain;
+  plain2.pixels[100] = 203;
+  ttc.MeasureScale(plain, plain2, 1, 0.1, 1.0, r);
+  EXPECT_FALSE(r.dist_m.has_value());
+  EXPECT_EQ(r.reason, Reason::kZeroGradient);
+  EXPECT_FALSE(r.raw.has_value());
+  // Driving away: no expansion.
+  ttc.MeasureScale(current, earlier, 4, 0.4, 10.0, r);
+  EXPECT_EQ(r.reason, Reason::kNotApproaching);
+  // No travel known.
+  ttc.MeasureScale(earlier, current, 4, std::nullopt, 10.0, r);
+  EXPECT_EQ(r.reason, Reason::kNoTravel);
+}
+
 TEST(DistanceMeasures, ValidityWindowPerCue) {
   DistanceOptions options;
   options.alpha2 = 1.0;

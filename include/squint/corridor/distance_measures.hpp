@@ -21,6 +21,22 @@ namespace squint::corridor {
 std::optional<double> TimeToContactFrames(const Glance& previous, const Glance& current, double cx,
                                           double cy, bool gain_compensation = false);
 
+// The magnification σ ≥ 1 of `current` relative to `earlier` about the expansion centre (cx, cy):
+// the σ in (1, max_scale) whose magnified earlier glance, earlier(c + (p − c)/σ) (bilinear),
+// best matches `current` by normalised cross-correlation over the current glance's pixels p
+// within ±half_width_px columns and ±half_height_px rows of the centre (clipped to the glance).
+// NCC makes the match invariant to a gain and offset change between the frames. Searched on a
+// 0.01 grid, refined on a 0.001 grid and by a parabola through the best three. `ncc` gets the
+// best correlation. None when the window holds fewer than 12 pixels or either side is uniform.
+// A best σ at 1 (no measurable expansion) returns exactly 1.
+struct ScaleMatch {
+  double scale = 1.0;
+  double ncc = 0.0;
+  double contrast = 0.0;  // standard deviation of the current glance in the window (grey levels)
+};
+std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& current, double cx, double cy,
+                                         double half_width_px, double half_height_px, double max_scale);
+
 class DistanceMeasure {
  public:
   virtual ~DistanceMeasure() = default;
@@ -39,9 +55,11 @@ class DistanceMeasure {
 // from the current frame).
 class TimeToContactDistance final : public DistanceMeasure {
  public:
-  // (cx, cy): the expansion centre in glance pixels.
-  TimeToContactDistance(const DistanceOptions& options, double cx, double cy)
-      : options_(options), cx_(cx), cy_(cy) {}
+  // (cx, cy): the expansion centre in glance pixels. focal_px and camera_height_m (glance
+  // camera; 0 = unknown) size the scale search's window (DistanceOptions::ttc_scale_search).
+  TimeToContactDistance(const DistanceOptions& options, double cx, double cy, double focal_px = 0.0,
+                        double camera_height_m = 0.0)
+      : options_(options), cx_(cx), cy_(cy), focal_px_(focal_px), camera_height_m_(camera_height_m) {}
   DistanceCue Cue() const override { return DistanceCue::kTimeToContact; }
   // Consecutive frames (a one-frame baseline).
   void Measure(const PreparedGlance& previous, const PreparedGlance& current,
@@ -50,12 +68,22 @@ class TimeToContactDistance final : public DistanceMeasure {
   // distance driven between them.
   void MeasureBaseline(const Glance& earlier, const Glance& current, int baseline_frames,
                        std::optional<double> travelled_m, DistanceMeasureResult& out) const;
+  // The scale search (DistanceOptions::ttc_scale_search) over the same baseline: out.raw = σ − 1
+  // (≤ 0: no measurable expansion), model input s / (σ − 1). No estimate (kZeroGradient) when
+  // the window's contrast is below ttc_min_contrast or the best NCC below ttc_min_ncc (a plain
+  // wall close up: no texture to match, which must not read as "no expansion, very far"). `reference_m`: the last distance
+  // estimate, which sizes the window (none: the whole glance).
+  void MeasureScale(const Glance& earlier, const Glance& current, int baseline_frames,
+                    std::optional<double> travelled_m, std::optional<double> reference_m,
+                    DistanceMeasureResult& out) const;
   std::optional<double> Distance(double model_input) const override;
 
  private:
   DistanceOptions options_;
   double cx_;
   double cy_;
+  double focal_px_;
+  double camera_height_m_;
 };
 
 // g2 = β2 − α2 · J (§4.2.2).

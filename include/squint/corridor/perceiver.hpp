@@ -91,6 +91,10 @@ class Perceiver {
   double ColumnToHeadingDeg(double column_px) const;
 
  private:
+  // ProcessGlance with `ttc_glance` (the glance time to contact compares: area-averaged for
+  // Process() with DistanceOptions::ttc_area_glance, else `glance` itself).
+  PerceptionResult ProcessImpl(const Glance& glance, const Glance& ttc_glance, std::optional<double> travelled_m,
+                               double dt_s);
   void Fuse(PerceptionResult& result) const;
   // Heading fusion by the sum of the cues' normalised curves (HeadingOptions::fuse_curves).
   void FuseHeadingCurves(PerceptionResult& result) const;
@@ -98,8 +102,10 @@ class Perceiver {
   double HeadingDegToColumn(double heading_deg) const;
   // Distance cues: time to contact over the chosen baseline, the temporal medians, and the
   // glance history they need (fixed-size: no allocation).
-  void MeasureDistances(const PreparedGlance& prev, const PreparedGlance& cur, std::optional<double> travelled,
-                        PerceptionResult& result);
+  void MeasureDistances(const PreparedGlance& prev, const PreparedGlance& cur, const Glance& ttc_glance,
+                        std::optional<double> travelled, PerceptionResult& result);
+  // Pushes `g` into the time-to-contact history with the travel so far.
+  void PushHistory(const Glance& g);
   void ResetDistanceHistory();
 
   Options options_;
@@ -132,6 +138,7 @@ class Perceiver {
   // are first moved to the current frame by the travel since.
   std::optional<double> PushAndMedian(CueWindow& w, std::optional<double> input, bool travel_compensated) const;
   std::optional<double> last_ttc_input_m_;  // the last filtered time-to-contact input
+  Glance area_glance_{};                    // Process()'s area-averaged glance for time to contact
 };
 
 }  // namespace squint::corridor
