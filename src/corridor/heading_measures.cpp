@@ -6,6 +6,8 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
+#include <utility>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -131,6 +133,17 @@ inline double CorrectedMutualInformation(const Count* joint, std::uint32_t n, co
   return s / n - (ra - 1) * (cb - 1) / (2.0 * n);
 }
 
+// Makes the compiler assume `array` was rewritten in memory, so that the cells computed with SIMD
+// are then read back one by one as scalars (instead of extracting each lane from a register).
+template <typename T>
+inline void OpaqueToCompiler(T& array) {
+#if defined(__GNUC__)
+  asm volatile("" : "+m"(array));
+#else
+  (void)array;
+#endif
+}
+
 // Calls kernel.template operator()<kBits>() for a bit depth 1..4 given at run time, so that the
 // histogram kernels see their bin count as a constant.
 template <typename Kernel>
@@ -187,30 +200,57 @@ void EntropyHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& out)
 // plug-in MI is inflated) comparable with wide ones.
 namespace {
 
-// Symmetry scores of the axes first..last: every axis gets its own joint histogram, and the pairs
-// are counted distance by distance across all axes, so neighbouring increments fall in different
-// histograms (no store-to-load chains, nothing to merge). Count: uint8_t when no bin can exceed
-// 255 (half_width · rows ≤ 255), else uint16_t.
+// ++joint[x · kCells + cell[x]] for the columns x = kM..31 − kM, unrolled.
+template <int kM, int kCells, typename Count>
+void CountColumns(Count* joint, const std::uint8_t* cell) {
+#pragma GCC unroll 32
+  for (int x = kM; x <= kW - 1 - kM; ++x) ++joint[x * kCells + cell[x]];
+}
+
+template <int kCells, typename Count, std::size_t... kMs>
+constexpr auto ColumnCounters(std::index_sequence<kMs...>) {
+  return std::array<void (*)(Count*, const std::uint8_t*), sizeof...(kMs)>{
+      &CountColumns<static_cast<int>(kMs), kCells, Count>...};
+}
+
+// Symmetry scores of the axes first..last = 31 − first. Every axis has its own joint histogram;
+// a row's pairs at distance d are counted for all axes at once (no store-to-load chains between
+// neighbouring increments, nothing to merge): the axes at distance d are x = m..31 − m with
+// m = max(first, d), counted by an unrolled routine for that m. Count: uint8_t when no bin can
+// exceed 255 (half_width · rows ≤ 255), else uint16_t.
 template <int kBits, typename Count>
-void SymmetryCurve(const std::uint8_t* level, int first, int last, int half_width, bool significance,
+void SymmetryCurve(const std::uint8_t* level, int first, int half_width, bool significance,
                    std::array<float, kW>& curve) {
   constexpr int kBins = 1 << kBits, kCells = kBins * kBins;
+  constexpr int kPad = 16;  // > the largest half width (15)
+  static constexpr auto kCounters = ColumnCounters<kCells, Count>(std::make_index_sequence<kPad>());
+  const int last = kW - 1 - first;
   alignas(16) Count joint[kW * kCells];
   ClearJointHistograms<kBins>(joint + first * kCells, last - first + 1);
+  // The levels with kPad columns of zeros on either side, written before any row is read (a load
+  // straddling fresh stores would stall on store forwarding).
+  constexpr int kPaddedW = kW + 2 * kPad;
+  alignas(16) std::uint8_t padded[kH * kPaddedW];
   for (int v = 0; v < kH; ++v) {
-    const std::uint8_t* row = level + v * kW;
+    std::memset(padded + v * kPaddedW, 0, kPad);
+    std::memcpy(padded + v * kPaddedW + kPad, level + v * kW, kW);
+    std::memset(padded + v * kPaddedW + kPad + kW, 0, kPad);
+  }
+  for (int v = 0; v < kH; ++v) {
     for (int d = 1; d <= half_width; ++d) {
-      const int xa = std::max(first, d), xb = std::min(last, kW - 1 - d);
-      const std::uint8_t* left = row + xa - d;
-      const std::uint8_t* right = row + xa + d;
-      Count* h = joint + xa * kCells;
-      for (int k = 0; k <= xb - xa; ++k, h += kCells) ++h[(left[k] << kBits) + right[k]];
+      const std::uint8_t* left = padded + v * kPaddedW + kPad - d;
+      const std::uint8_t* right = padded + v * kPaddedW + kPad + d;
+      alignas(16) std::uint8_t cell[kW];
+      for (int x = 0; x < kW; ++x) cell[x] = static_cast<std::uint8_t>((left[x] << kBits) + right[x]);
+      OpaqueToCompiler(cell);
+      kCounters[std::max(first, d)](joint, cell);
     }
   }
   const double* table = NLogNTable();
   for (int x = first; x <= last; ++x) {
     const int d_max = std::min({half_width, x, kW - 1 - x});
-    const double mi = CorrectedMutualInformation<kBins>(joint + x * kCells, static_cast<std::uint32_t>(d_max * kH), table);
+    const double mi =
+        CorrectedMutualInformation<kBins>(joint + x * kCells, static_cast<std::uint32_t>(d_max * kH), table);
     curve[x] = static_cast<float>(significance ? mi * d_max / half_width : mi);
   }
 }
@@ -222,17 +262,18 @@ void SymmetryHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& out
   out.curve.fill(0.0f);
   if (g.Uniform()) return SetNoEstimate(out, Reason::kUniformFrame);
   const int half_width = options_.symmetry_half_width_px;
+  SQUINT_ENSURE(half_width >= 1 && half_width <= 15, "heading.symmetry_half_width_px must be in [1, 15]");
   // Axes with D < min_half_width are not scored (Validate: min ≤ half width ≤ 15, so some are).
   const int first = options_.symmetry_min_half_width_px, last = kW - 1 - first;
   if (last < first) return SetNoEstimate(out, Reason::kFlatCurve);
   const bool small_counts = half_width * kH <= 255;
   WithBits(options_.column_bits, [&]<int kBits>() {
     if (small_counts)
-      SymmetryCurve<kBits, std::uint8_t>(g.column_level.data(), first, last, half_width,
-                                         options_.symmetry_significance, out.curve);
+      SymmetryCurve<kBits, std::uint8_t>(g.column_level.data(), first, half_width, options_.symmetry_significance,
+                                         out.curve);
     else
-      SymmetryCurve<kBits, std::uint16_t>(g.column_level.data(), first, last, half_width,
-                                          options_.symmetry_significance, out.curve);
+      SymmetryCurve<kBits, std::uint16_t>(g.column_level.data(), first, half_width, options_.symmetry_significance,
+                                          out.curve);
   });
   float lowest = out.curve[first];
   for (int x = first; x <= last; ++x) lowest = std::min(lowest, out.curve[x]);
