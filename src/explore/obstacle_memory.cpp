@@ -18,6 +18,8 @@ std::string ObstacleMemoryOptions::Validate() const {
   if (!(keep_seconds > 0.0) || !std::isfinite(keep_seconds)) return "keep_seconds must be positive";
   if (!(blocked_min_range_m > 0.0) || !std::isfinite(blocked_min_range_m)) return "blocked_min_range_m must be positive";
   if (!(clear_blind_min_range_m >= 0.0) || !std::isfinite(clear_blind_min_range_m)) return "clear_blind_min_range_m must be >= 0";
+  if (!(blind_points_from_m >= 0.0) || !std::isfinite(blind_points_from_m)) return "blind_points_from_m must be >= 0";
+  if (!(blind_points_keep_s > 0.0) || !std::isfinite(blind_points_keep_s)) return "blind_points_keep_s must be positive";
   return {};
 }
 
@@ -28,7 +30,10 @@ ObstacleMemory::ObstacleMemory(const ObstacleMemoryOptions& options) : options_(
 }
 
 void ObstacleMemory::Clear() {
-  for (Cell& c : cells_) c.stamp_s = c.free_stamp_s = -1.0;
+  for (Cell& c : cells_) {
+    c.stamp_s = c.free_stamp_s = -1.0;
+    c.soft = false;
+  }
   n_blocked_ = 0;
   gathered_.clear();
 }
@@ -46,6 +51,21 @@ void ObstacleMemory::Insert(const Eigen::Vector2d& p, double stamp_s) {
   Cell& c = At(p);
   c.p = p;
   c.stamp_s = stamp_s;
+  c.soft = false;
+}
+
+void ObstacleMemory::InsertBlindRay(const Eigen::Vector2d& origin, double yaw, double to_m, double stamp_s) {
+  if (!(options_.blind_points_from_m > 0.0)) return;
+  const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
+  for (double s = options_.blind_points_from_m; s <= to_m; s += options_.cell_m) {
+    const Eigen::Vector2d p = origin + s * d;
+    Cell& c = At(p);
+    if (c.free_stamp_s >= 0.0 && stamp_s - c.free_stamp_s <= options_.keep_seconds) continue;  // floor seen there
+    if (c.stamp_s >= 0.0 && !c.soft) continue;  // a boundary seen there: keep it
+    c.p = p;
+    c.stamp_s = stamp_s;
+    c.soft = true;
+  }
 }
 
 void ObstacleMemory::ClearRay(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double seen_from_m,
@@ -92,6 +112,7 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
         // Something nearer than the blind range, at an unknown distance: not remembered (it
         // would block later paths wherever it is put), but held as the latest scan's blockage.
         blocked_yaws_[static_cast<std::size_t>(n_blocked_++)] = yaw;
+        InsertBlindRay(o, yaw, near_blind_m, stamp_s);
         break;
       case SonarReturn::kBoundary: {
         const double from = c.range_m >= options_.clear_blind_min_range_m ? 0.0 : near_blind_m;
@@ -123,7 +144,7 @@ void ObstacleMemory::Gather(const Pose2& odom_T_robot, double stamp_s) {
     for (int i = i0; i <= i1; ++i) {
       Cell& c = cells_[static_cast<std::size_t>(jj * n + ((i % n) + n) % n)];
       if (c.stamp_s < 0.0) continue;
-      if (stamp_s - c.stamp_s > options_.keep_seconds) {
+      if (stamp_s - c.stamp_s > (c.soft ? options_.blind_points_keep_s : options_.keep_seconds)) {
         c.stamp_s = -1.0;
         continue;
       }

@@ -209,5 +209,62 @@ TEST(ObstacleMemory, BlockedNearStopsForwardTravelUnlessTheFloorThereWasSeen) {
   EXPECT_NEAR(seen.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, /*use_blocked=*/false), 1.3 - 0.35, 0.05);
 }
 
+// A corner seen blocked near on the right, then out of view after the robot turned left: the
+// soft points along the blocked rays keep it known; without them the way right looks free.
+TEST(ObstacleMemory, BlindZoneCornerStaysKnownAfterTurningAway) {
+  const CameraModel cam = SonarCamera();
+  std::vector<SonarColumn> first = WallScan(cam, 3.0);
+  int n_blocked = 0;
+  for (SonarColumn& c : first) {
+    if (c.bearing_rad > -0.1) continue;
+    c.kind = SonarReturn::kBlockedNear;
+    c.range_m = 0.0;
+    ++n_blocked;
+  }
+  ASSERT_GT(n_blocked, 10);
+  const Pose2 turned{0.0, 0.0, 0.9};  // 52 degrees left: the blocked rays are out of view
+  const double right = -0.3;          // a heading into the blocked sector
+  ObstacleMemoryOptions off;
+  off.blind_points_from_m = 0.0;
+  for (const bool soft : {true, false}) {
+    ObstacleMemory mem(soft ? ObstacleMemoryOptions{} : off);
+    mem.Update(first, Pose2{}, 0.0, 1.2);
+    mem.Update(WallScan(cam, 2.5), turned, 0.5, 1.2);
+    mem.Gather(turned, 0.5);
+    const double free = mem.FreeTravel(turned, right, 0.35, 5.0);
+    if (soft) {
+      // Nearest soft point: 0.6 m along the blocked ray nearest to the heading (bearing -0.1),
+      // 0.06 m beside the heading: the disc meets it about 0.35 m earlier.
+      EXPECT_LT(free, 0.3);
+      // Forgotten after blind_points_keep_s; a heading away from the blocked rays stays free.
+      EXPECT_NEAR(mem.FreeTravel(turned, 0.9, 0.35, 5.0), 2.5 - 0.35, 0.05);
+      mem.Gather(turned, 0.5 + ObstacleMemoryOptions{}.blind_points_keep_s + 1.0);
+      EXPECT_EQ(mem.FreeTravel(turned, right, 0.35, 5.0), 5.0);
+    } else {
+      EXPECT_EQ(free, 5.0);  // the latest scan saw nothing blocked: the corner is forgotten
+    }
+  }
+}
+
+// Soft points are not put where the floor was seen from farther back, and floor seen later along
+// the blocked rays removes them.
+TEST(ObstacleMemory, SoftPointsYieldToFloorSeen) {
+  const CameraModel cam = SonarCamera();
+  std::vector<SonarColumn> blocked = WallScan(cam, 2.0);
+  for (SonarColumn& c : blocked) {
+    c.kind = SonarReturn::kBlockedNear;
+    c.range_m = 0.0;
+  }
+  ObstacleMemory mem;
+  mem.Update(blocked, Pose2{}, 0.0, 1.2);
+  mem.Gather(Pose2{}, 0.0);
+  EXPECT_EQ(mem.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, /*use_blocked=*/false), 0.0);  // soft points from 0.6 m
+  // Backed away 1.5 m (odometry), the same floor is now seen free up to 2.9 m from there.
+  const Pose2 back{-1.5, 0.0, 0.0};
+  mem.Update(WallScan(cam, 2.9), back, 1.0, 1.2);
+  mem.Gather(back, 1.0);
+  EXPECT_NEAR(mem.FreeTravel(back, 0.0, 0.35, 5.0), 2.9 - 0.35, 0.05);
+}
+
 }  // namespace
 }  // namespace squint::explore

@@ -25,6 +25,13 @@ struct ObstacleMemoryOptions {
   // A blocked-near column may hide something this close (metres): the directions it blocks
   // are those whose swept band meets its ray at this range.
   double blocked_min_range_m = 0.6;
+  // A blocked-near column is also remembered along its ray, from this range (metres) out to the
+  // blind range, as "soft" points: something stands somewhere there. Cells whose floor was seen
+  // (within keep_seconds) are skipped, and later floor seen along a ray removes them like any
+  // point. They keep a corner that passed through the blind zone (and out of view while the
+  // robot turns) known. 0 turns them off.
+  double blind_points_from_m = 0.6;
+  double blind_points_keep_s = 20.0;  // soft points older than this are forgotten
   std::string Validate() const;
 };
 
@@ -58,12 +65,15 @@ class ObstacleMemory {
     Eigen::Vector2d p = Eigen::Vector2d::Zero();
     double stamp_s = -1.0;       // < 0: empty
     double free_stamp_s = -1.0;  // when floor was last seen here (< 0: never)
+    bool soft = false;           // from a blocked-near column (position along its ray unknown)
   };
   Cell& At(const Eigen::Vector2d& p);
   const Cell& At(const Eigen::Vector2d& p) const { return const_cast<ObstacleMemory*>(this)->At(p); }
   // True when floor was seen (within keep_seconds of `now_s`) along the ray from from_m to to_m.
   bool SeenFree(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double now_s) const;
   void Insert(const Eigen::Vector2d& p, double stamp_s);
+  // Soft points along a blocked-near ray where the floor was not seen.
+  void InsertBlindRay(const Eigen::Vector2d& origin, double yaw, double to_m, double stamp_s);
   // Removes points along the ray from from_m to to_m; marks floor seen from seen_from_m on.
   void ClearRay(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double seen_from_m, double stamp_s);
 
