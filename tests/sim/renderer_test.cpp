@@ -80,6 +80,47 @@ TEST(Renderer, OpticalAxisMeetsTheEndWallAtItsDistance) {
   EXPECT_NEAR(range.at<float>(15, 20), 17.5 / std::cos(DegToRad(3)), 1e-4);
 }
 
+// Every pixel's range against an independent cast of its central ray (World::CastWalls over all
+// walls, the floor and ceiling planes), in worlds without obstacles and from poses turned every
+// way, so that walls just outside the view's wedge (skipped per frame) and just inside it meet
+// the image border columns: the bearing table must lose no wall.
+TEST(Renderer, RangesEqualAnIndependentCastOfEveryPixelsRay) {
+  int checked = 0, worlds = 0;
+  for (const std::string& name : BuiltinWorldNames()) {
+    const World w = LoadWorld(name);
+    if (!w.obstacles.empty()) continue;
+    ++worlds;
+    const CameraModel cam = w.camera.Model().Scaled(64, 48);
+    Renderer r(w, cam, Exact());
+    for (int k = 0; k < 24; ++k) {
+      const Pose2 pose{w.start.x + 0.37 * k * std::cos(w.start.yaw), w.start.y + 0.37 * k * std::sin(w.start.yaw),
+                       w.start.yaw + DegToRad(15.0 * k + 0.3)};
+      cv::Mat label, range;
+      r.Render(pose, &label, &range);
+      const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
+      for (int v = 0; v < cam.height; ++v)
+        for (int u = 0; u < cam.width; ++u) {
+          const Eigen::Vector3d d = cam.PixelRayRobot({u, v});
+          const double h = std::hypot(d.x(), d.y()), slope = d.z() / h;
+          const Eigen::Vector2d dir((c * d.x() - s * d.y()) / h, (s * d.x() + c * d.y()) / h);
+          double t = 1e30;  // horizontal distance
+          bool floor = false;
+          if (const auto hit = w.CastWalls({pose.x, pose.y}, dir)) t = hit->first;
+          if (slope < 0 && cam.height_m / -slope < t) t = cam.height_m / -slope, floor = true;
+          const double ceiling = w.CeilingAt({pose.x, pose.y});
+          if (slope > 0 && (ceiling - cam.height_m) / slope < t) t = (ceiling - cam.height_m) / slope;
+          ASSERT_LT(t, 1e29) << name << " " << u << "," << v;
+          const double expect = t * std::sqrt(1 + slope * slope);
+          EXPECT_NEAR(range.at<float>(v, u), expect, 1e-4 * expect) << name << " pose " << k << " pixel " << u << "," << v;
+          EXPECT_EQ(label.at<std::uint8_t>(v, u), floor ? kLabelFloor : kLabelStanding) << name << " pose " << k << " pixel " << u << "," << v;
+          ++checked;
+        }
+    }
+  }
+  EXPECT_GE(worlds, 5);
+  EXPECT_EQ(checked, worlds * 24 * 64 * 48);
+}
+
 TEST(Renderer, BoxInFrontIsSeenAtItsFaceDistance) {
   const World w = ParseWorld(
       "format: squint-world/1\ncorridors: [{from: [0, 0], to: [20, 0], width_m: 4, height_m: 3}]\n"
