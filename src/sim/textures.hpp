@@ -53,10 +53,17 @@ inline float TextureTable::BoxMean(double u0, double u1, double v0, double v1) c
   const std::int64_t qx0 = x0 >> 7, qx1 = x1 >> 7, qy0 = y0 >> 7, qy1 = y1 >> 7;
   const std::int64_t rx0 = x0 & (kTexSize - 1), rx1 = x1 & (kTexSize - 1), ry0 = y0 & (kTexSize - 1), ry1 = y1 & (kTexSize - 1);
   const auto at = [&](std::int64_t i, std::int64_t j) { return static_cast<std::int64_t>(sat[j * kS + i]); };
+  const double area = static_cast<double>((x1 - x0) * (y1 - y0));
+  if (qx0 == qx1 && qy0 == qy1) {  // inside one table: the plain summed-area box (the common case)
+    const std::uint32_t* r0 = &sat[static_cast<std::size_t>(ry0) * kS];
+    const std::uint32_t* r1 = &sat[static_cast<std::size_t>(ry1) * kS];
+    const std::int64_t sum = static_cast<std::int64_t>(r1[rx1]) - r1[rx0] - r0[rx1] + r0[rx0];
+    return static_cast<float>(static_cast<double>(sum) / area) * gain;
+  }
   const std::int64_t sum = (qx1 - qx0) * (qy1 - qy0) * at(kTexSize, kTexSize) +
                            (qx1 - qx0) * (at(kTexSize, ry1) - at(kTexSize, ry0)) + (qy1 - qy0) * (at(rx1, kTexSize) - at(rx0, kTexSize)) +
                            at(rx1, ry1) - at(rx0, ry1) - at(rx1, ry0) + at(rx0, ry0);
-  return static_cast<float>(static_cast<double>(sum) / static_cast<double>((x1 - x0) * (y1 - y0))) * gain;
+  return static_cast<float>(static_cast<double>(sum) / area) * gain;
 }
 
 }  // namespace squint::sim::detail
