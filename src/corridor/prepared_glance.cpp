@@ -2,6 +2,7 @@
 #include "squint/corridor/prepared_glance.hpp"
 
 #include <algorithm>
+#include <cstring>
 
 #include "squint/corridor/information.hpp"
 
@@ -11,21 +12,29 @@ void ComputeHistogramAndEntropy(const Glance& glance, int image_bits, PreparedGl
   out.glance = glance;
   const int shift = 8 - image_bits;
   out.image_bins = 1 << image_bits;
-  // Four interleaved partial histograms avoid store-to-load stalls on repeated bins.
-  std::uint32_t part[4][kMaxImageBins] = {};
+  const int bins = out.image_bins;
+  // Four interleaved partial histograms avoid store-to-load stalls on repeated bins; 16-bit counts
+  // (at most 768), packed with stride `bins` so that only the used part is cleared.
+  static_assert(kGlancePixels <= 65535);
+  std::uint16_t part[4 * kMaxImageBins];
+  std::memset(part, 0, sizeof(std::uint16_t) * 4 * static_cast<std::size_t>(bins));
+  std::uint16_t* p0 = part;
+  std::uint16_t* p1 = p0 + bins;
+  std::uint16_t* p2 = p1 + bins;
+  std::uint16_t* p3 = p2 + bins;
   std::uint8_t lo = 255, hi = 0;
   const std::uint8_t* p = glance.pixels.data();
   for (int i = 0; i < kGlancePixels; i += 4) {
-    ++part[0][p[i] >> shift];
-    ++part[1][p[i + 1] >> shift];
-    ++part[2][p[i + 2] >> shift];
-    ++part[3][p[i + 3] >> shift];
+    ++p0[p[i] >> shift];
+    ++p1[p[i + 1] >> shift];
+    ++p2[p[i + 2] >> shift];
+    ++p3[p[i + 3] >> shift];
   }
   for (int i = 0; i < kGlancePixels; ++i) {
     lo = std::min(lo, p[i]);
     hi = std::max(hi, p[i]);
   }
-  for (int b = 0; b < out.image_bins; ++b) out.histogram[b] = part[0][b] + part[1][b] + part[2][b] + part[3][b];
+  for (int b = 0; b < bins; ++b) out.histogram[b] = static_cast<std::uint32_t>(p0[b] + p1[b] + p2[b] + p3[b]);
   out.min_level = lo;
   out.max_level = hi;
   out.entropy = EntropyFromCounts(out.histogram.data(), out.image_bins, kGlancePixels);
