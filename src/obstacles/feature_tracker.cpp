@@ -253,9 +253,11 @@ class KltTracker : public FeatureTracker {
     current.copyTo(last_current_);
     cv::calcOpticalFlowPyrLK(pyr_prev_, pyr_cur_, corners_, tracked_, status_, err_, window, options_.klt_levels,
                              term);
+    // Back from the tracked points, starting at the corners and on the full-resolution level only: a
+    // consistent track converges there at once; an inconsistent one cannot get back within the bound.
     back_ = corners_;
-    cv::calcOpticalFlowPyrLK(pyr_cur_, pyr_prev_, tracked_, back_, status_back_, err_, window, options_.klt_levels,
-                             term, cv::OPTFLOW_USE_INITIAL_FLOW);
+    cv::calcOpticalFlowPyrLK(pyr_cur_, pyr_prev_, tracked_, back_, status_back_, err_, window, 0, term,
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
     const cv::Rect2f inside(0.f, 0.f, static_cast<float>(current.cols - 1), static_cast<float>(current.rows - 1));
     for (std::size_t i = 0; i < corners_.size(); ++i) {
       if (!status_[i] || !status_back_[i]) continue;

@@ -53,6 +53,22 @@ std::optional<double> MirrorAwareDiscrepancy(const CameraModel& camera, const Po
   return (moved - k * camera_motion).norm();
 }
 
+std::optional<Discrepancies> AllDiscrepancies(const CameraModel& camera, const Pose2& world_T_previous,
+                                              const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
+                                              const Eigen::Vector2d& current_pixel) {
+  const auto a = FloorPointWorld(camera, world_T_previous, previous_pixel);
+  const auto b = FloorPointWorld(camera, world_T_current, current_pixel);
+  if (!a || !b) return std::nullopt;
+  const Eigen::Vector2d camera_motion = world_T_current.Apply(camera.RobotCameraCentre().head<2>()) -
+                                        world_T_previous.Apply(camera.RobotCameraCentre().head<2>());
+  const double n2 = camera_motion.squaredNorm();
+  if (n2 < 1e-24) return std::nullopt;
+  const Eigen::Vector2d moved = *b - *a;
+  const double along = moved.dot(camera_motion);
+  const double k = std::clamp(along / n2, 0.0, 1.0);
+  return Discrepancies{moved.norm(), -along / std::sqrt(n2), (moved - k * camera_motion).norm()};
+}
+
 namespace {
 Eigen::Vector3d WorldRay(const CameraModel& camera, const Pose2& world_T_robot, const Eigen::Vector2d& pixel) {
   const Eigen::Vector3d r = camera.PixelRayRobot(pixel);

@@ -176,13 +176,12 @@ void IptPipeline::Process(const cv::Mat& previous_image, const cv::Mat& current_
     if (AboveHorizon(m.camera, f.pixel)) {
       f.zone = kHorizonZone;
     } else {
-      f.plain_discrepancy_m = Discrepancy(m.camera, *previous_odom, f.previous_pixel, *current_odom, f.pixel);
-      f.signed_discrepancy_m = SignedDiscrepancy(m.camera, *previous_odom, f.previous_pixel, *current_odom, f.pixel);
-      f.discrepancy_m = opt.mirror_aware ? MirrorAwareDiscrepancy(m.camera, *previous_odom, f.previous_pixel,
-                                                                  *current_odom, f.pixel)
-                                         : f.plain_discrepancy_m;
-      // A feature below the horizon now but above it before stands above the floor as well.
-      if (!f.discrepancy_m) f.plain_discrepancy_m.reset(), f.signed_discrepancy_m.reset();
+      // A feature below the horizon now but above it before stands above the floor as well (no D).
+      if (const auto d = AllDiscrepancies(m.camera, *previous_odom, f.previous_pixel, *current_odom, f.pixel)) {
+        f.plain_discrepancy_m = d->plain_m;
+        f.signed_discrepancy_m = d->signed_m;
+        f.discrepancy_m = opt.mirror_aware ? d->mirror_aware_m : d->plain_m;
+      }
       f.zone = f.discrepancy_m ? std::min(2, m.zones.ZoneOfRow(f.pixel.y())) : kHorizonZone;
     }
     f.cls = ClassifyFeature(f.zone, f.discrepancy_m, opt.classifier);

@@ -87,6 +87,11 @@ TEST_P(IptGeometryTest, MirrorAwareDiscrepancyIsDAboveTheFloorAndZeroForReflecti
       const auto plain = Discrepancy(cam, a, See(cam, a, p), b, See(cam, b, p));
       const auto m = MirrorAwareDiscrepancy(cam, a, See(cam, a, p), b, See(cam, b, p));
       ASSERT_TRUE(plain && m);
+      const auto all = AllDiscrepancies(cam, a, See(cam, a, p), b, See(cam, b, p));
+      ASSERT_TRUE(all.has_value());
+      EXPECT_NEAR(all->plain_m, *plain, 1e-12);
+      EXPECT_NEAR(all->mirror_aware_m, *m, 1e-12);
+      EXPECT_NEAR(all->signed_m, *SignedDiscrepancy(cam, a, See(cam, a, p), b, See(cam, b, p)), 1e-12);
       EXPECT_NEAR(*plain, dc.norm() * -z / (cam.height_m - z), 1e-9) << "z " << z;
       EXPECT_NEAR(*m, 0.0, 1e-9) << "z " << z;
     }
@@ -97,6 +102,10 @@ TEST_P(IptGeometryTest, MirrorAwareDiscrepancyIsDAboveTheFloorAndZeroForReflecti
       ASSERT_TRUE(plain && m);
       EXPECT_GT(*m, 0.0);
       EXPECT_NEAR(*m, *plain, 1e-9) << "z " << z;
+      const auto all = AllDiscrepancies(cam, a, See(cam, a, p), b, See(cam, b, p));
+      ASSERT_TRUE(all.has_value());
+      EXPECT_NEAR(all->mirror_aware_m, *m, 1e-12);
+      EXPECT_NEAR(all->signed_m, *SignedDiscrepancy(cam, a, See(cam, a, p), b, See(cam, b, p)), 1e-12);
     }
     // Floor points seen where the later frame shows the floor 5 mm to the side of the motion, and
     // 1.5·dC along it (more than any static point can move).

@@ -43,6 +43,18 @@ std::optional<double> MirrorAwareDiscrepancy(const CameraModel& camera, const Po
                                              const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
                                              const Eigen::Vector2d& current_pixel);
 
+// Discrepancy(), SignedDiscrepancy() and MirrorAwareDiscrepancy() of one correspondence from one
+// back-projection of each pixel (what the pipeline needs per feature). None where Discrepancy() has
+// none or the camera did not move.
+struct Discrepancies {
+  double plain_m = 0.0;
+  double signed_m = 0.0;
+  double mirror_aware_m = 0.0;
+};
+std::optional<Discrepancies> AllDiscrepancies(const CameraModel& camera, const Pose2& world_T_previous,
+                                              const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
+                                              const Eigen::Vector2d& current_pixel);
+
 // Epipolar residual of a correspondence under the motion known from odometry (paper §3.3's epipolar
 // constraint, with F fixed by the poses and the camera mount instead of estimated): every static
 // scene point — on the floor, above it, or a mirror image below it — has its two viewing rays in one
