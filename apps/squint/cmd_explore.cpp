@@ -44,7 +44,7 @@ void RunExploreCommand(const ExploreCliOptions& opt) {
   std::printf("sim %.0f s, wall %.1f s, perception CPU %.2f s (%.3f%% of simulated time), %ld/%ld frames fully processed\n",
               s.sim_seconds, s.wall_seconds, s.perception_cpu_seconds, 100.0 * s.perception_cpu_seconds / s.sim_seconds,
               s.frames_fully_processed, s.frames);
-  std::cout << "wrote " << (std::filesystem::path(opt.out) / "summary.json").string() << ", map.png, trace.csv\n";
+  std::cout << "wrote " << (std::filesystem::path(opt.out) / "summary.json").string() << ", map.png, trace.csv, events.csv\n";
 }
 
 struct EvalExploreOptions {
@@ -120,7 +120,7 @@ void Register(CLI::App& root) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   cmd->add_option("--seed", opt->seed, "Seed for odometry and sensor noise")->capture_default_str();
-  cmd->add_option("--out", opt->out, "Output folder: summary.json, map.png, trace.csv")->capture_default_str();
+  cmd->add_option("--out", opt->out, "Output folder: summary.json, map.png, trace.csv, events.csv")->capture_default_str();
   cmd->callback([opt] { RunExploreCommand(*opt); });
 
   auto eopt = std::make_shared<EvalExploreOptions>();

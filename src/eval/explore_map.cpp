@@ -1,5 +1,6 @@
 // Outputs of an exploration run: the map figure (paper Fig. 11: floor plan, path, end-of-corridor
-// detections, numbered turn points), summary.json and trace.csv.
+// detections, numbered turn points, junctions), summary.json, trace.csv and events.csv.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -93,6 +94,10 @@ cv::Mat DrawExploreMap(const sim::World& world, const ExploreRunResult& run, con
       case explore::ExploreEvent::Kind::kStall:
         cv::drawMarker(img, p, kStallBgr, cv::MARKER_TILTED_CROSS, 10, 2, cv::LINE_AA);
         break;
+      case explore::ExploreEvent::Kind::kJunction:
+        // Side branches found while following: a hollow blue diamond.
+        cv::drawMarker(img, p, kTurnBgr, cv::MARKER_DIAMOND, 9, 1, cv::LINE_AA);
+        break;
       case explore::ExploreEvent::Kind::kScanDone: break;
     }
   }
@@ -104,7 +109,8 @@ cv::Mat DrawExploreMap(const sim::World& world, const ExploreRunResult& run, con
   char line[256];
   std::snprintf(line, sizeof line, "%s", title.empty() ? ("squint explore: " + run.world_name).c_str() : title.c_str());
   cv::putText(out, line, {8, 17}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  std::snprintf(line, sizeof line, "%.1f min, %.0f m, coverage %.2f, %d ends (green *), %d turns (numbers), %d collisions",
+  std::snprintf(line, sizeof line,
+                "%.1f min, %.0f m, coverage %.2f, %d ends (green *), %d turns (numbers), junctions (diamonds), %d collisions",
                 sm.sim_seconds / 60.0, sm.distance_m, sm.coverage, sm.ends_detected, sm.turns, sm.collisions);
   cv::putText(out, line, {8, 36}, cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
   return out;
@@ -146,6 +152,27 @@ void WriteExploreOutputs(const std::filesystem::path& dir, const sim::World& wor
       << Cell(r.v_mps, 3) << ',' << Cell(r.omega_rps, 3) << ',' << (r.collided ? 1 : 0) << '\n';
   }
   csv.Commit();
+
+  // The explorer's events (ends, junctions, turns, stalls) with the true and odometry poses.
+  io::AtomicFile ev(dir / "events.csv");
+  std::ostream& e = ev.Stream();
+  e << "t_s,kind,true_x_m,true_y_m,true_yaw_deg,odom_x_m,odom_y_m,node,turn_deg,note\n";
+  for (const ExploreMark& m : run.marks) {
+    const char* kind = "scan";
+    switch (m.event.kind) {
+      case explore::ExploreEvent::Kind::kScanDone: kind = "scan_done"; break;
+      case explore::ExploreEvent::Kind::kEndDetected: kind = "end"; break;
+      case explore::ExploreEvent::Kind::kTurn: kind = "turn"; break;
+      case explore::ExploreEvent::Kind::kStall: kind = "stall"; break;
+      case explore::ExploreEvent::Kind::kJunction: kind = "junction"; break;
+    }
+    std::string note = m.event.note;
+    std::replace(note.begin(), note.end(), ',', ';');
+    e << Cell(m.event.stamp_s, 2) << ',' << kind << ',' << Cell(m.world_T_robot.x, 3) << ',' << Cell(m.world_T_robot.y, 3)
+      << ',' << Cell(RadToDeg(m.world_T_robot.yaw), 1) << ',' << Cell(m.event.odom_T_robot.x, 3) << ','
+      << Cell(m.event.odom_T_robot.y, 3) << ',' << m.event.node << ',' << m.event.turn_deg << ",\"" << note << "\"\n";
+  }
+  ev.Commit();
 }
 
 }  // namespace squint::eval

@@ -77,6 +77,17 @@ std::string ExplorerOptions::Validate() const {
   if (!Positive(sonar_centre_max_lateral_m)) return "sonar_centre_max_lateral_m must be positive";
   if (!Positive(rescan_yaw_deg)) return "rescan_yaw_deg must be positive";
   if (!NonNegative(trust_memory_after_m)) return "trust_memory_after_m must be >= 0";
+  if (!Positive(side_window_m)) return "side_window_m must be positive";
+  if (!Positive(side_wall_max_lateral_m)) return "side_wall_max_lateral_m must be positive";
+  if (!NonNegative(branch_wall_before_m)) return "branch_wall_before_m must be >= 0";
+  if (!NonNegative(branch_wall_gap_m)) return "branch_wall_gap_m must be >= 0";
+  if (!Positive(branch_min_width_m)) return "branch_min_width_m must be positive";
+  if (!(branch_default_width_m >= branch_min_width_m && std::isfinite(branch_default_width_m)))
+    return "branch_default_width_m must be >= branch_min_width_m";
+  if (!(branch_max_width_m >= branch_default_width_m && std::isfinite(branch_max_width_m)))
+    return "branch_max_width_m must be >= branch_default_width_m";
+  if (!Positive(branch_depth_m)) return "branch_depth_m must be positive";
+  if (!Positive(branch_max_heading_deg)) return "branch_max_heading_deg must be positive";
   if (std::string e = memory.Validate(); !e.empty()) return "memory." + e;
   if (std::string e = map.Validate(); !e.empty()) return "map." + e;
   return {};
@@ -401,6 +412,7 @@ void Explorer::StartFollow(const Percept&) {
   ref_next_ = 0;
   gate_reset_ = true;
   stall_since_s_ = -1.0;
+  sides_[0] = sides_[1] = SideTrack{};
 }
 
 void Explorer::UpdateAxis(const Percept& p) {
@@ -412,14 +424,28 @@ void Explorer::UpdateAxis(const Percept& p) {
     if (static_cast<int>(outlier_axes_.size()) >= opt_.axis_reacquire_frames) {
       std::nth_element(outlier_axes_.begin(), outlier_axes_.begin() + static_cast<std::ptrdiff_t>(outlier_axes_.size() / 2), outlier_axes_.end());
       axis_yaw_odom_ = WrapPi(axis_yaw_odom_ + outlier_axes_[outlier_axes_.size() / 2]);
-      map_yaw_offset_ = WrapPi(axis_yaw_odom_ - YawOfDirection(dir_));
+      // Re-acquired near another map direction (the robot went round a corner without stopping):
+      // drive on in that direction; the corridor just left has no known end node, so its edge
+      // is dropped, and the side tracks start afresh.
+      // The map frame is not turned by a re-acquisition (a corner's view can give a diagonal
+      // axis); inlier updates refine it afterwards.
+      const int new_dir = DirectionOfYaw(WrapPi(axis_yaw_odom_ - map_yaw_offset_));
+      if (new_dir != dir_) {
+        dir_ = new_dir;
+        map_.CancelDeparture();
+        sides_[0] = sides_[1] = SideTrack{};
+      }
       outlier_axes_.clear();
     }
     return;
   }
   outlier_axes_.clear();
   axis_yaw_odom_ = WrapPi(axis_yaw_odom_ + opt_.axis_gain * innovation);
-  map_yaw_offset_ = WrapPi(axis_yaw_odom_ - YawOfDirection(dir_));
+  // The map frame follows the axis by the same innovation; it snaps to the axis only when they
+  // agree within a few degrees (not after a re-acquisition onto a diagonal view).
+  const double residual = WrapPi(axis_yaw_odom_ - YawOfDirection(dir_) - map_yaw_offset_);
+  map_yaw_offset_ = std::abs(residual) < DegToRad(5.0) ? WrapPi(axis_yaw_odom_ - YawOfDirection(dir_))
+                                                       : WrapPi(map_yaw_offset_ + opt_.axis_gain * innovation);
 }
 
 double Explorer::ReferenceEntropy() const {
@@ -486,14 +512,11 @@ Command Explorer::FollowStep(const Percept& p) {
     Emit(ExploreEvent::Kind::kEndDetected, p, 0,
          Format("end: fused distance %.2f m, entropy %.2f of reference %.2f, sonar free %.2f m (%s)", dist_end_m_,
                 p.glance_entropy_nats.value_or(-1.0), last_ref_entropy_, axis_free, end_by_sonar ? "sonar" : "entropy/distance"));
-    state_ = ExploreState::kProbe;
-    probe_phase_ = 0;
-    look_count_ = 0;
-    look_sum_ = 0.0;
-    n_probes_ = 0;
-    rot_ = Rotation{axis_yaw_odom_, 0};
+    StartProbe();
     return {};
   }
+  // Side branches passed along the corridor (with the sonar): stop at a new one and probe.
+  if (TrackSides(p)) return {};
 
   // Stall guard (odometry only): commanded forward for a while, the wheels did not move.
   if (stall_since_s_ < 0.0) {
@@ -547,6 +570,108 @@ Command Explorer::FollowStep(const Percept& p) {
   return cmd;
 }
 
+// --- Side branches met while following ---------------------------------------------------------
+
+bool Explorer::TrackSides(const Percept& p) {
+  if (!opt_.detect_branches || !sonar_seen_ || p.sonar == nullptr) return false;
+  double wall[2] = {-1.0, -1.0};
+  memory_.SideDistances(p.odom_T_robot, axis_yaw_odom_, opt_.side_window_m, opt_.side_wall_max_lateral_m, &wall[0],
+                        &wall[1]);
+  const double t = travel_in_corridor_m_;
+  // The nearest remembered point ahead on each side (beyond the abeam window): an opening's far
+  // edge (the next wall, the branch's far corner, or the end wall).
+  const Eigen::Vector2d o = p.odom_T_robot.Translation();
+  const Eigen::Vector2d d(std::cos(axis_yaw_odom_), std::sin(axis_yaw_odom_));
+  double ahead[2] = {-1.0, -1.0};
+  for (const Eigen::Vector2d& m : memory_.Gathered()) {
+    const Eigen::Vector2d q = m - o;
+    const double s = q.dot(d);
+    if (s <= opt_.side_window_m) continue;
+    const double l = d.x() * q.y() - d.y() * q.x();
+    if (std::abs(l) < opt_.robot_radius_m || std::abs(l) > opt_.side_wall_max_lateral_m + 1.5) continue;
+    double& a = ahead[l > 0.0 ? 0 : 1];
+    if (a < 0.0 || s < a) a = s;
+  }
+  for (int k = 0; k < 2; ++k) {
+    SideTrack& tr = sides_[k];
+    if (wall[k] > 0.0) {
+      if (tr.wall_first_m < 0.0 || t - tr.wall_last_m > opt_.branch_wall_gap_m) {
+        // A new run of wall (after a gap, or the first): an opening must follow a full run.
+        tr = SideTrack{};
+        tr.wall_first_m = t;
+      }
+      tr.wall_last_m = t;
+      if (t - tr.wall_first_m >= opt_.branch_wall_before_m) tr.armed = true;
+      continue;
+    }
+    if (!tr.armed || tr.consumed) continue;
+    const double edge = tr.wall_last_m - opt_.side_window_m;  // where the wall ended
+    if (ahead[k] > 0.0) tr.far_m = t + ahead[k];
+    const double width = tr.far_m > 0.0 ? tr.far_m - edge : opt_.branch_default_width_m;
+    if (width < opt_.branch_min_width_m || width > opt_.branch_max_width_m) {
+      tr.consumed = true;  // a door recess, or no wall beyond (an open area): not a side branch
+      continue;
+    }
+    if (t < edge + 0.5 * width || t - tr.wall_last_m < opt_.branch_wall_gap_m) continue;
+    // Not while steering well off the axis (round an obstacle, or a corner taken without a stop):
+    // the stop and the probe need the corridor frame.
+    if (std::abs(WrapPi(p.odom_T_robot.yaw - axis_yaw_odom_)) > DegToRad(opt_.branch_max_heading_deg)) continue;
+    // At the opening's centre: a branch when free across for branch_depth_m.
+    tr.consumed = true;
+    const double side_yaw = WrapPi(axis_yaw_odom_ + (k == 0 ? 0.5 : -0.5) * kPi);
+    if (Free(p, side_yaw, opt_.branch_depth_m + 0.5) < opt_.branch_depth_m) continue;
+    // A crossing: the other side's opening is handled by the same stop (the probe looks at both).
+    SideTrack& other = sides_[1 - k];
+    if (other.armed && wall[1 - k] <= 0.0) other.consumed = true;
+    if (OnOpening(p, k, width)) return true;
+  }
+  return false;
+}
+
+bool Explorer::OnOpening(const Percept& p, int side, double width_m) {
+  const int side_dir = (dir_ + (side == 0 ? 1 : 3)) & 3;
+  const Eigen::Vector2d pos = map_pose_.Translation();
+  const char* side_name = side == 0 ? "left" : "right";
+  ++junctions_;
+  const int known = map_.NodeNear(pos);
+  if (known >= 0 && map_.Nodes()[known].branch[side_dir] != Branch::kUnknown) {
+    // A junction met before whose side branch is known: pass unless the map routes into it.
+    node_ = map_.Arrive(pos, dir_);
+    if (map_.Nodes()[node_].branch[dir_] == Branch::kUnknown) map_.SetBranch(node_, dir_, Branch::kOpen);
+    const int next = map_.ChooseBranch(node_, dir_);
+    if (next == dir_ || next < 0) {
+      map_.Depart(node_, dir_);
+      Emit(ExploreEvent::Kind::kJunction, p, 0,
+           Format("passed junction %d (%s branch %s)", node_, side_name, BranchName(map_.Nodes()[node_].branch[side_dir])));
+      return false;
+    }
+    Emit(ExploreEvent::Kind::kJunction, p, 0, Format("stopped at junction %d: the map routes elsewhere", node_));
+    StartProbe();
+    return true;
+  }
+  node_ = map_.Arrive(pos, dir_);
+  const double ahead_free = Free(p, axis_yaw_odom_, opt_.lookahead_m + 1.0);
+  const bool ahead_open = ahead_free >= opt_.sonar_end_gap_m;
+  if (map_.Nodes()[node_].branch[dir_] == Branch::kUnknown)
+    map_.SetBranch(node_, dir_, ahead_open ? Branch::kOpen : Branch::kWall);
+  if (!ahead_open) ++ends_;  // the opening is the corner at the corridor's end
+  Emit(ExploreEvent::Kind::kJunction, p, 0,
+       Format("opening on the %s, %.1f m wide; ahead free %.1f m", side_name, width_m, ahead_free));
+  StartProbe();
+  return true;
+}
+
+void Explorer::StartProbe() {
+  last_ref_entropy_ = ReferenceEntropy();
+  side_free_m_[0] = side_free_m_[1] = -1.0;
+  state_ = ExploreState::kProbe;
+  probe_phase_ = 0;
+  look_count_ = 0;
+  look_sum_ = 0.0;
+  n_probes_ = 0;
+  rot_ = Rotation{axis_yaw_odom_, 0};
+}
+
 // --- Back off -------------------------------------------------------------------------------
 
 Command Explorer::BackOffStep(const Percept& p) {
@@ -562,12 +687,7 @@ Command Explorer::BackOffStep(const Percept& p) {
     node_ = map_.Arrive(map_pose_.Translation(), dir_);
   }
   map_.SetBranch(node_, dir_, Branch::kWall, at_departure);
-  state_ = ExploreState::kProbe;
-  probe_phase_ = 0;
-  look_count_ = 0;
-  look_sum_ = 0.0;
-  n_probes_ = 0;
-  rot_ = Rotation{axis_yaw_odom_, 0};
+  StartProbe();
   return {};
 }
 
@@ -596,7 +716,8 @@ Command Explorer::ProbeStep(const Percept& p) {
   if (sonar_seen_ && p.sonar == nullptr) return {};
   const double h = look_sum_ / look_count_;
   side_entropy_[probe_phase_] = h;
-  const bool open = sonar_seen_ ? Free(p, rot_.target_yaw, opt_.lookahead_m + 1.0) >= opt_.sonar_open_free_m
+  side_free_m_[probe_phase_] = sonar_seen_ ? Free(p, rot_.target_yaw, opt_.lookahead_m + 1.0) : -1.0;
+  const bool open = sonar_seen_ ? side_free_m_[probe_phase_] >= opt_.sonar_open_free_m
                                 : h >= opt_.open_entropy_ratio * last_ref_entropy_;
   map_.SetBranch(node_, side_dir, open ? Branch::kOpen : Branch::kWall);
   ++n_probes_;
@@ -630,9 +751,10 @@ void Explorer::Decide(const Percept& p) {
   if (next < 0) next = Opposite(dir_);
   const int rel = (next - dir_ + 4) & 3;
   const int turn_deg = rel == 0 ? 0 : rel == 1 ? 90 : rel == 3 ? -90 : 180;
-  const std::string note = Format("left %s, right %s (H %.2f/%.2f, ref %.2f)",
-                                       BranchName(node.branch[(dir_ + 1) & 3]), BranchName(node.branch[(dir_ + 3) & 3]),
-                                       side_entropy_[0], side_entropy_[1], last_ref_entropy_);
+  const std::string note = Format("left %s, right %s, ahead %s (H %.2f/%.2f, ref %.2f, sonar free %.1f/%.1f m)",
+                                  BranchName(node.branch[(dir_ + 1) & 3]), BranchName(node.branch[(dir_ + 3) & 3]),
+                                  BranchName(node.branch[dir_]), side_entropy_[0], side_entropy_[1], last_ref_entropy_,
+                                  side_free_m_[0], side_free_m_[1]);
   StartTurnTo(p, next, turn_deg, note);
 }
 
@@ -641,6 +763,10 @@ void Explorer::StartTurnTo(const Percept& p, int dir, int turn_deg, const std::s
   const int rel = (dir - dir_ + 4) & 3;
   rot_ = Rotation{WrapPi(axis_yaw_odom_ + rel * kPi / 2.0), 0};
   state_ = ExploreState::kTurn;
+  if (rel == 0) {  // straight on past a junction: not a turn
+    Emit(ExploreEvent::Kind::kJunction, p, 0, "straight on: " + note);
+    return;
+  }
   ++turns_;
   Emit(ExploreEvent::Kind::kTurn, p, turn_deg, note);
 }

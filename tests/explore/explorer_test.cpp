@@ -196,6 +196,156 @@ TEST(Explorer, GateResetOncePerCorridor) {
   EXPECT_TRUE(explorer.TakeGateReset());  // a new corridor started
 }
 
+// A floor plan of axis-aligned wall segments with a ray-cast "perception": the glance
+// estimates from the pose as in ToyCorridor, and a visual sonar scan (64 columns over the 60°
+// view, range to the first wall, blocked near inside the 1.2 m blind range, far beyond 6 m) on
+// every third frame, as the simulator's runner feeds them.
+struct ToyPlan {
+  struct Wall {
+    double x0, y0, x1, y1;
+  };
+  std::vector<Wall> walls;
+  Pose2 pose;
+  int frame = 0;
+  std::vector<SonarColumn> scan;
+  static constexpr double kBlind = 1.2;
+
+  // Distance along a ray to the first wall (a large number when none).
+  double Ray(double x, double y, double yaw) const {
+    const double dx = std::cos(yaw), dy = std::sin(yaw);
+    double best = 1e9;
+    for (const Wall& w : walls) {
+      if (w.x0 == w.x1) {  // vertical
+        if (std::abs(dx) < 1e-12) continue;
+        const double t = (w.x0 - x) / dx;
+        const double yy = y + t * dy;
+        if (t > 0 && yy >= std::min(w.y0, w.y1) && yy <= std::max(w.y0, w.y1)) best = std::min(best, t);
+      } else {  // horizontal
+        if (std::abs(dy) < 1e-12) continue;
+        const double t = (w.y0 - y) / dy;
+        const double xx = x + t * dx;
+        if (t > 0 && xx >= std::min(w.x0, w.x1) && xx <= std::max(w.x0, w.x1)) best = std::min(best, t);
+      }
+    }
+    return best;
+  }
+
+  Percept Perceive() {
+    Percept p;
+    p.stamp_s = frame * kDt;
+    p.odom_T_robot = pose;  // ideal odometry
+    const double axis = std::round(pose.yaw / (kPi / 2)) * (kPi / 2);
+    const double heading_deg = RadToDeg(WrapPi(pose.yaw - axis));
+    const double ahead = Ray(pose.x, pose.y, pose.yaw);
+    p.glance_entropy_nats = (ahead > 1.2 ? kOpenEntropy : kWallEntropy) - 0.2 * std::abs(heading_deg) / 45.0;
+    p.processed = frame % 3 == 0;
+    if (p.processed) {
+      const double left = std::min(1.5, Ray(pose.x, pose.y, axis + kPi / 2));
+      const double right = std::min(1.5, Ray(pose.x, pose.y, axis - kPi / 2));
+      p.heading_deg = heading_deg;
+      p.centre_heading_deg = heading_deg + 40.0 * 0.5 * (right - left);
+      p.dist_end_m = std::min(30.0, Ray(pose.x, pose.y, axis));
+    }
+    if (frame % 3 == 0) {
+      scan.resize(64);
+      for (int i = 0; i < 64; ++i) {
+        SonarColumn& c = scan[static_cast<std::size_t>(i)];
+        c.bearing_rad = DegToRad(30.0 - 60.0 * (i + 0.5) / 64.0);
+        const double r = Ray(pose.x, pose.y, pose.yaw + c.bearing_rad);
+        c.kind = r < kBlind ? SonarReturn::kBlockedNear : r > 6.0 ? SonarReturn::kFar : SonarReturn::kBoundary;
+        c.range_m = c.kind == SonarReturn::kBoundary ? r : c.kind == SonarReturn::kFar ? 6.0 : 0.0;
+      }
+      p.sonar = &scan;
+      p.sonar_near_blind_m = kBlind;
+    }
+    return p;
+  }
+
+  void Apply(const Command& c) {
+    const double ds = c.v_mps * kDt;
+    const double mid = pose.yaw + 0.5 * c.omega_rps * kDt;
+    pose.x += ds * std::cos(mid);
+    pose.y += ds * std::sin(mid);
+    pose.yaw = WrapPi(pose.yaw + c.omega_rps * kDt);
+    ++frame;
+  }
+};
+
+// A T met from its bar: a 2 m corridor from x = -1 to an end wall at x = 25, with a 2 m side
+// branch to the right (south) between x = 9 and x = 11, 10 m deep to a dead end.
+ToyPlan TPlan() {
+  ToyPlan t;
+  t.walls = {{-1, 1, 25, 1},   {-1, -1, 9, -1},   {11, -1, 25, -1}, {-1, -1, -1, 1},
+             {25, -1, 25, 1},  {9, -1, 9, -11},   {11, -1, 11, -11}, {9, -11, 11, -11}};
+  t.pose = {1.0, 0.0, 0.0};
+  return t;
+}
+
+TEST(Explorer, SideBranchMetFromTheBarIsRecordedAndTakenFirst) {
+  ToyPlan world = TPlan();
+  Explorer explorer;
+  double junction_x = -1.0;
+  double min_y = 0.0;
+  bool hit_wall = false;
+  int steps_to_branch_end = -1;
+  for (int i = 0; i < 30 * 150; ++i) {
+    const std::size_t n_events = explorer.Events().size();
+    world.Apply(explorer.Step(world.Perceive()));
+    for (std::size_t k = n_events; k < explorer.Events().size(); ++k)
+      if (explorer.Events()[k].kind == ExploreEvent::Kind::kJunction && junction_x < 0.0) junction_x = world.pose.x;
+    min_y = std::min(min_y, world.pose.y);
+    if (min_y < -8.5 && steps_to_branch_end < 0) steps_to_branch_end = i;
+    // The disc (radius 0.25) never meets a wall: every wall's distance from the centre.
+    for (double a = -kPi; a < kPi; a += kPi / 18)
+      if (world.Ray(world.pose.x, world.pose.y, a) < 0.25) hit_wall = true;
+  }
+  EXPECT_FALSE(hit_wall);
+  EXPECT_GE(explorer.JunctionsDetected(), 1);
+  // It stopped near the opening's centre (x = 10)...
+  EXPECT_GT(junction_x, 9.4);
+  EXPECT_LT(junction_x, 10.6);
+  // ...probed, and turned right into the branch before anything else.
+  int first_turn = 0;
+  for (const ExploreEvent& e : explorer.Events())
+    if (e.kind == ExploreEvent::Kind::kTurn) {
+      first_turn = e.turn_deg;
+      break;
+    }
+  EXPECT_EQ(first_turn, -90);
+  // It drove down the branch to its dead end (at y = -11), then came back out.
+  EXPECT_LT(min_y, -8.5);
+  EXPECT_GT(steps_to_branch_end, 0);
+  // The junction node: came in from the west, the side branch explored, the corridor ahead
+  // known open (it continues: the map keeps it for later) or already driven.
+  const TopoMap& map = explorer.Map();
+  const int j = map.NodeNear({9.0, 0.0});  // map frame: the start's axis, origin at the start
+  ASSERT_GE(j, 0);
+  const TopoNode& node = map.Nodes()[static_cast<std::size_t>(j)];
+  EXPECT_EQ(node.branch[2], Branch::kExplored);
+  EXPECT_EQ(node.branch[3], Branch::kExplored);
+  EXPECT_EQ(node.branch[1], Branch::kWall);
+  EXPECT_NE(node.branch[0], Branch::kWall);
+  EXPECT_NE(node.branch[0], Branch::kUnknown);
+}
+
+// Without the side-branch detector (the paper's behaviour) the same T is passed: the robot only
+// decides at the corridor's end, and its first turn there is around (a dead end at x = 25).
+TEST(Explorer, WithoutBranchDetectionTheSideBranchIsPassed) {
+  ToyPlan world = TPlan();
+  ExplorerOptions o;
+  o.detect_branches = false;
+  Explorer explorer(o);
+  double max_x = 0.0;
+  for (int i = 0; i < 30 * 60 && explorer.Turns() == 0; ++i) {
+    world.Apply(explorer.Step(world.Perceive()));
+    max_x = std::max(max_x, world.pose.x);
+  }
+  EXPECT_EQ(explorer.JunctionsDetected(), 0);
+  ASSERT_EQ(explorer.Turns(), 1);
+  EXPECT_GT(max_x, 22.0);
+  EXPECT_EQ(explorer.Events().back().turn_deg, 180);
+}
+
 TEST(Explorer, OptionsValidateNamesTheField) {
   ExplorerOptions o;
   EXPECT_TRUE(o.Validate().empty());

@@ -119,6 +119,43 @@ TEST(TopoMap, PatrolPrefersLeastRecentlyTaken) {
   EXPECT_EQ(map.ChooseBranch(n, 1), 2);
 }
 
+// A corridor east from A(0,0) to a dead end B(20,0), with a side branch to the south met at
+// J(10,0) from the bar of the T: the pass is a node of its own, splitting the edge A–B, and its
+// unexplored branch is chosen first, and later reached back along known edges.
+TEST(TopoMap, SideBranchPassedMidCorridorIsANodeAndIsChosen) {
+  TopoMap map;
+  const int a = map.Arrive({0.0, 0.0}, 2);  // the start: a stop facing west, then turned round
+  map.SetBranch(a, 1, Branch::kWall);
+  map.SetBranch(a, 3, Branch::kWall);
+  map.Depart(a, 0);
+  EXPECT_EQ(map.NodeNear({9.0, 0.5}), -1);
+  // Passing J: the right (south) side is open, straight on continues.
+  const int j = map.Arrive({10.0, 0.1}, 0);
+  map.SetBranch(j, 3, Branch::kOpen);
+  map.SetBranch(j, 1, Branch::kWall);
+  map.SetBranch(j, 0, Branch::kOpen);
+  EXPECT_EQ(map.NodeNear({9.0, 0.5}), j);
+  EXPECT_EQ(map.Nodes()[a].neighbour[0], j);
+  EXPECT_NEAR(map.Nodes()[a].length_m[0], 10.0, 0.01);
+  // The side branch before straight on (both unexplored: right before straight).
+  EXPECT_EQ(map.ChooseBranch(j, 0), 3);
+  // Had it gone straight on instead: the dead end B routes back to J (west), the way to the
+  // open south branch, along the known edge.
+  map.Depart(j, 0);
+  const int b = map.Arrive({20.0, 0.0}, 0);
+  map.SetBranch(b, 0, Branch::kWall);
+  map.SetBranch(b, 1, Branch::kWall);
+  map.SetBranch(b, 3, Branch::kWall);
+  EXPECT_EQ(map.Nodes()[j].neighbour[0], b);
+  EXPECT_EQ(map.Nodes()[b].neighbour[2], j);
+  EXPECT_EQ(map.NumEdges(), 2);
+  EXPECT_EQ(map.ChooseBranch(b, 0), 2);
+  map.Depart(b, 2);
+  // Back at J heading west (a stop merged with J): the open south branch is now on the left.
+  EXPECT_EQ(map.Arrive({10.3, -0.2}, 2), j);
+  EXPECT_EQ(map.ChooseBranch(j, 2), 3);
+}
+
 TEST(TopoMap, OptionsValidate) {
   TopoMapOptions o;
   EXPECT_TRUE(o.Validate().empty());

@@ -94,6 +94,23 @@ struct ExplorerOptions {
   double sonar_centre_max_lateral_m = 1.8;  // side points farther than this do not centre
   double rescan_yaw_deg = 12.0;       // no forward motion until a scan was taken at the heading
   double trust_memory_after_m = 1.6;  // following: blocked-near columns ignored after this travel
+  // Side branches met while following (a T met from its bar), from the sonar's memory: a side
+  // wall seen abeam (within side_window_m along the axis, side_wall_max_lateral_m across) over
+  // branch_wall_before_m of travel, then no wall abeam, is an opening; its far edge is the
+  // nearest remembered point ahead on that side. The robot stops at the opening's centre when
+  // it is at least branch_min_width_m wide and free for branch_depth_m across (else a door
+  // recess), records a junction node, probes the sides and lets the topological map choose.
+  // Junctions whose side branch is already known are passed without stopping.
+  bool detect_branches = true;
+  double side_window_m = 0.3;
+  double side_wall_max_lateral_m = 1.8;
+  double branch_wall_before_m = 0.6;
+  double branch_wall_gap_m = 0.3;        // shorter breaks in the wall do not end a wall run
+  double branch_min_width_m = 1.2;
+  double branch_default_width_m = 2.0;   // when the far edge is not seen (yet)
+  double branch_max_width_m = 4.0;       // a longer gap is not treated as one side branch
+  double branch_depth_m = 2.0;
+  double branch_max_heading_deg = 15.0;  // no stop while heading farther than this off the axis
   ObstacleMemoryOptions memory;
   TopoMapOptions map;
 
@@ -112,13 +129,23 @@ const char* StateName(ExploreState s);
 
 // Something that happened, for logs and maps (positions are odometry poses).
 struct ExploreEvent {
-  enum class Kind { kScanDone, kEndDetected, kTurn, kStall };
+  enum class Kind { kScanDone, kEndDetected, kTurn, kStall, kJunction };
   Kind kind = Kind::kTurn;
   double stamp_s = 0.0;
   Pose2 odom_T_robot;
   int turn_deg = 0;   // for kTurn: +90 left, −90 right, 180 around, 0 straight on
   int node = -1;      // topological node, when known
   std::string note;   // e.g. "left open, right wall"
+};
+
+// The side-branch detector's state for one side while following (travel coordinates are metres
+// driven in the current corridor).
+struct SideTrack {
+  double wall_first_m = -1.0;  // start of the current run of wall seen abeam (< 0: none)
+  double wall_last_m = -1.0;   // where the wall was last seen abeam
+  bool armed = false;          // a wall run long enough was seen: a gap after it is an opening
+  bool consumed = false;       // this gap was handled (junction recorded, passed or rejected)
+  double far_m = -1.0;         // the opening's far edge (travel coordinate), when seen
 };
 
 class Explorer {
@@ -151,6 +178,8 @@ class Explorer {
   // Times the sonar safety layer lowered a forward command (for logs).
   long SpeedLimited() const { return speed_limited_; }
   int EndsDetected() const { return ends_; }
+  // Side openings met while following and recorded as junctions (stopped at or passed).
+  int JunctionsDetected() const { return junctions_; }
 
  private:
   struct Rotation {
@@ -170,6 +199,11 @@ class Explorer {
   void StartFollow(const Percept& p);
   void StartTurnTo(const Percept& p, int dir, int turn_deg, const std::string& note);
   void Decide(const Percept& p);
+  // Side branches while following: updates the two side tracks from the sonar memory; returns
+  // true when the robot stopped at a junction (state changed to kProbe).
+  bool TrackSides(const Percept& p);
+  bool OnOpening(const Percept& p, int side, double width_m);
+  void StartProbe();
   double ReferenceEntropy() const;
   void Emit(ExploreEvent::Kind kind, const Percept& p, int turn_deg, const std::string& note);
   // Sonar: memory update, and the last word on every command (speed limit).
@@ -234,12 +268,15 @@ class Explorer {
   int look_count_ = 0;
   double look_sum_ = 0.0;
   double side_entropy_[2] = {0.0, 0.0};
+  double side_free_m_[2] = {-1.0, -1.0};  // sonar free travel seen when probing each side
   int probe_sides_[2] = {1, 3};  // relative turns (in quarter turns) to probe
   int n_probes_ = 0;
   int turn_to_dir_ = 0;
 
   int turns_ = 0;
   int ends_ = 0;
+  int junctions_ = 0;
+  SideTrack sides_[2];  // 0 left, 1 right
 
   // Visual sonar.
   ObstacleMemory memory_;

@@ -1,6 +1,7 @@
 // A topological map of a Manhattan building built from odometry and turn decisions: nodes are
-// the places where the robot stopped (corridor ends, junctions), each with four branches
-// (map directions 0..3 = 0°, 90°, 180°, 270°), and edges are the corridors driven between them.
+// the places where the robot stopped (corridor ends, junctions) or passed a side branch, each
+// with four branches (map directions 0..3 = 0°, 90°, 180°, 270°), and edges are the corridors
+// driven between them.
 // It answers one question: which branch to take next so that unexplored corridors come first.
 #pragma once
 
@@ -63,6 +64,9 @@ class TopoMap {
   // else, when everything is explored, the least recently taken passable branch, the way back
   // last. Returns -1 when no branch is passable.
   int ChooseBranch(int node, int arrival_dir) const;
+
+  // The node within merge_radius_m of `position_m` (the nearest), or -1.
+  int NodeNear(const Eigen::Vector2d& position_m) const { return FindNear(position_m); }
 
   bool HasUnexplored() const;
   const std::vector<TopoNode>& Nodes() const { return nodes_; }
