@@ -166,29 +166,49 @@ struct NccSums {
   float sx = 0.0f, sxx = 0.0f, sxy = 0.0f;
 };
 
-// The window of the current glance and its own sums, shared by every candidate scale.
+// The window of the current glance (every `step`-th row and column from (u0, v0)) and its own
+// sums, shared by every candidate scale.
 struct ScaleWindow {
-  int u0, u1, v0, v1;
+  int u0, u1, v0, v1, step;
   double n, sy, syy;
 };
+
+ScaleWindow MakeWindow(const Glance& current, int u0, int u1, int v0, int v1, int step) {
+  ScaleWindow w{u0, u1, v0, v1, step, 0.0, 0.0, 0.0};
+  for (int v = v0; v <= v1; v += step)
+    for (int u = u0; u <= u1; u += step) {
+      const double y = current.At(u, v);
+      w.n += 1.0;
+      w.sy += y;
+      w.syy += y * y;
+    }
+  return w;
+}
 
 NccSums SumScale(const Glance& earlier, const Glance& current, const ScaleWindow& w, double cx, double cy,
                  double scale) {
   const float inv = static_cast<float>(1.0 / scale);
   const float fcx = static_cast<float>(cx), fcy = static_cast<float>(cy);
+  // Sources lie between the centre and p, so inside the glance; clamped for the bilinear cell.
+  // The column lookup depends on the scale only: one table per call.
+  std::array<int, kW> col{};
+  std::array<float, kW> frac{};
+  for (int u = w.u0; u <= w.u1; u += w.step) {
+    const float sx = std::clamp(fcx + (static_cast<float>(u) - fcx) * inv, 0.0f, kW - 1.001f);
+    col[u] = static_cast<int>(sx);
+    frac[u] = sx - static_cast<float>(col[u]);
+  }
   NccSums s;
-  for (int v = w.v0; v <= w.v1; ++v) {
-    // Sources lie between the centre and p, so inside the glance; clamp for the bilinear cell.
+  for (int v = w.v0; v <= w.v1; v += w.step) {
     const float sy = std::clamp(fcy + (static_cast<float>(v) - fcy) * inv, 0.0f, kH - 1.001f);
     const int y0 = static_cast<int>(sy);
     const float fy = sy - static_cast<float>(y0);
     const std::uint8_t* r0 = earlier.pixels.data() + y0 * kW;
     const std::uint8_t* r1 = r0 + kW;
     const std::uint8_t* cur = current.pixels.data() + v * kW;
-    for (int u = w.u0; u <= w.u1; ++u) {
-      const float sx = std::clamp(fcx + (static_cast<float>(u) - fcx) * inv, 0.0f, kW - 1.001f);
-      const int x0 = static_cast<int>(sx);
-      const float fx = sx - static_cast<float>(x0);
+    for (int u = w.u0; u <= w.u1; u += w.step) {
+      const int x0 = col[u];
+      const float fx = frac[u];
       const float top = r0[x0] + fx * static_cast<float>(r0[x0 + 1] - r0[x0]);
       const float bottom = r1[x0] + fx * static_cast<float>(r1[x0 + 1] - r1[x0]);
       const float x = top + fy * (bottom - top);
@@ -213,48 +233,47 @@ double Ncc(const NccSums& s, const ScaleWindow& w) {
 std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& current, double cx, double cy,
                                          double half_width_px, double half_height_px, double max_scale) {
   if (!std::isfinite(cx) || !std::isfinite(cy) || !(max_scale > 1.0)) return std::nullopt;
-  ScaleWindow w{};
-  w.u0 = std::max(0, static_cast<int>(std::ceil(cx - half_width_px)));
-  w.u1 = std::min(kW - 1, static_cast<int>(std::floor(cx + half_width_px)));
-  w.v0 = std::max(0, static_cast<int>(std::ceil(cy - half_height_px)));
-  w.v1 = std::min(kH - 1, static_cast<int>(std::floor(cy + half_height_px)));
-  if (w.u1 < w.u0 || w.v1 < w.v0) return std::nullopt;
-  w.n = static_cast<double>((w.u1 - w.u0 + 1) * (w.v1 - w.v0 + 1));
-  if (w.n < 12.0) return std::nullopt;
-  w.sy = w.syy = 0.0;
-  for (int v = w.v0; v <= w.v1; ++v)
-    for (int u = w.u0; u <= w.u1; ++u) {
-      const double y = current.At(u, v);
-      w.sy += y;
-      w.syy += y * y;
-    }
-  const auto ncc = [&](double scale) { return Ncc(SumScale(earlier, current, w, cx, cy, scale), w); };
-  // Coarse grid, then a fine grid around its best, then a parabola through the fine best.
+  const int u0 = std::max(0, static_cast<int>(std::ceil(cx - half_width_px)));
+  const int u1 = std::min(kW - 1, static_cast<int>(std::floor(cx + half_width_px)));
+  const int v0 = std::max(0, static_cast<int>(std::ceil(cy - half_height_px)));
+  const int v1 = std::min(kH - 1, static_cast<int>(std::floor(cy + half_height_px)));
+  if (u1 < u0 || v1 < v0) return std::nullopt;
+  const ScaleWindow full = MakeWindow(current, u0, u1, v0, v1, 1);
+  if (full.n < 12.0) return std::nullopt;
+  // The coarse search reads every other row and column of a large window (a quarter of the
+  // work); the fine search reads every pixel.
+  const ScaleWindow coarse_window = full.n > 256.0 ? MakeWindow(current, u0, u1, v0, v1, 2) : full;
+  const auto ncc = [&](const ScaleWindow& w, double scale) {
+    return Ncc(SumScale(earlier, current, w, cx, cy, scale), w);
+  };
+  // Coarse grid (0.01), then a fine grid (0.001) within ±0.01 of its best, then a parabola
+  // through the fine best and its neighbours.
   constexpr double kCoarse = 0.01, kFine = 0.001;
+  constexpr int kHalfFine = 10;
   const int n_coarse = static_cast<int>(std::ceil((max_scale - 1.0) / kCoarse - 1e-9));
-  double best_scale = 1.0, best = ncc(1.0);
+  double centre = 1.0, best = ncc(coarse_window, 1.0);
   for (int i = 1; i <= n_coarse; ++i) {
     const double sc = std::min(max_scale, 1.0 + i * kCoarse);
-    const double r = ncc(sc);
-    if (r > best) best = r, best_scale = sc;
+    const double r = ncc(coarse_window, sc);
+    if (r > best) best = r, centre = sc;
   }
   if (best <= -2.0) return std::nullopt;  // a uniform side
-  const double centre = best_scale;
-  std::array<double, 21> fine{};
-  int best_i = 10;
-  for (int i = 0; i < 21; ++i) {
-    const double sc = centre + (i - 10) * kFine;
-    fine[i] = (sc < 1.0 || sc > max_scale) ? -3.0 : (i == 10 ? best : ncc(sc));
+  std::array<double, 2 * kHalfFine + 1> fine{};
+  int best_i = kHalfFine;
+  for (int i = 0; i <= 2 * kHalfFine; ++i) {
+    const double sc = centre + (i - kHalfFine) * kFine;
+    fine[i] = (sc < 1.0 - 1e-12 || sc > max_scale + 1e-12) ? -3.0 : ncc(full, sc);
     if (fine[i] > fine[best_i]) best_i = i;
   }
   best = fine[best_i];
-  best_scale = centre + (best_i - 10) * kFine;
-  if (best_i > 0 && best_i < 20 && fine[best_i - 1] > -3.0 && fine[best_i + 1] > -3.0) {
+  if (best <= -2.0) return std::nullopt;
+  double best_scale = centre + (best_i - kHalfFine) * kFine;
+  if (best_i > 0 && best_i < 2 * kHalfFine && fine[best_i - 1] > -2.0 && fine[best_i + 1] > -2.0) {
     const double a = fine[best_i - 1], b = fine[best_i], c = fine[best_i + 1];
     const double denom = a - 2.0 * b + c;
     if (denom < 0.0) best_scale += kFine * std::clamp(0.5 * (a - c) / denom, -0.5, 0.5);
   }
-  const double var = std::max(0.0, w.syy / w.n - (w.sy / w.n) * (w.sy / w.n));
+  const double var = std::max(0.0, full.syy / full.n - (full.sy / full.n) * (full.sy / full.n));
   return ScaleMatch{std::clamp(best_scale, 1.0, max_scale), best, std::sqrt(var)};
 }
 

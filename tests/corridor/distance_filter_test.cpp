@@ -137,6 +137,7 @@ TEST(PerceiverDistance, FusionWeightFallsWithTheCueErrorGrowth) {
 TEST(Gate, SlowDriftAccumulatesAgainstTheLastProcessedFrame) {
   // Entropy 1.000, 1.004, 1.008, ...: each step is 0.4 % of the reference.
   GateOptions paper;
+  paper.threshold = 0.01;  // the paper's threshold
   paper.compare_with_last_processed = false;
   paper.max_skipped_frames = 0;
   RapidPerceptionGate previous_frame(paper);

@@ -49,17 +49,29 @@ std::vector<std::uint8_t> Frame(double vx, double vy, int variant = 0) {
 GrayView View(const std::vector<std::uint8_t>& img) { return {img.data(), 160, 120, 160}; }
 
 void ExpectFinite(const PerceptionResult& r) {
-  if (r.heading_deg) EXPECT_TRUE(std::isfinite(*r.heading_deg));
-  if (r.dist_end_m) EXPECT_TRUE(std::isfinite(*r.dist_end_m));
+  if (r.heading_deg) {
+    EXPECT_TRUE(std::isfinite(*r.heading_deg));
+  }
+  if (r.dist_end_m) {
+    EXPECT_TRUE(std::isfinite(*r.dist_end_m));
+  }
   for (const auto& h : r.heading) {
-    if (h.heading_deg) EXPECT_TRUE(std::isfinite(*h.heading_deg));
-    if (h.column_px) EXPECT_TRUE(std::isfinite(*h.column_px));
+    if (h.heading_deg) {
+      EXPECT_TRUE(std::isfinite(*h.heading_deg));
+    }
+    if (h.column_px) {
+      EXPECT_TRUE(std::isfinite(*h.column_px));
+    }
     for (float c : h.curve) EXPECT_TRUE(std::isfinite(c));
     EXPECT_EQ(h.HasEstimate(), h.reason == Reason::kNone);
   }
   for (const auto& d : r.distance) {
-    if (d.dist_m) EXPECT_TRUE(std::isfinite(*d.dist_m));
-    if (d.raw) EXPECT_TRUE(std::isfinite(*d.raw));
+    if (d.dist_m) {
+      EXPECT_TRUE(std::isfinite(*d.dist_m));
+    }
+    if (d.raw) {
+      EXPECT_TRUE(std::isfinite(*d.raw));
+    }
     EXPECT_EQ(d.HasEstimate(), d.reason == Reason::kNone);
   }
 }
@@ -100,7 +112,9 @@ TEST(Perceiver, UniformFrameGivesNoEstimateWithReasons) {
 }
 
 TEST(Perceiver, GateSkipsSmallChangesAndResets) {
-  Perceiver perceiver(CorridorOptions{}, Camera160());
+  CorridorOptions paper;
+  paper.gate.threshold = 0.01;  // the paper's threshold (the default, 0.05, wants a larger change)
+  Perceiver perceiver(paper, Camera160());
   const auto a = Frame(90.0, 59.5);
   const auto far = Frame(40.0, 40.0, 30);
   PerceptionResult r = perceiver.Process(View(a), std::nullopt, 0.1);
