@@ -433,8 +433,8 @@ void Explorer::UpdateAxis(const Percept& p) {
       if (new_dir != dir_) {
         dir_ = new_dir;
         map_.CancelDeparture();
-        sides_[0] = sides_[1] = SideTrack{};
       }
+      sides_[0] = sides_[1] = SideTrack{};  // walls seen in the old frame do not arm an opening
       outlier_axes_.clear();
     }
     return;
@@ -632,10 +632,14 @@ bool Explorer::OnOpening(const Percept& p, int side, double width_m) {
   const int side_dir = (dir_ + (side == 0 ? 1 : 3)) & 3;
   const Eigen::Vector2d pos = map_pose_.Translation();
   const char* side_name = side == 0 ? "left" : "right";
-  ++junctions_;
+  // Only where the corridor goes on: a corner (the end wall ahead) is left to the end detection.
+  const double ahead_free = Free(p, axis_yaw_odom_, opt_.lookahead_m + 1.0);
+  if (ahead_free < opt_.sonar_end_gap_m) return false;
   const int known = map_.NodeNear(pos);
+  if (known >= 0 && known == map_.DepartedFrom()) return false;  // still leaving that junction
   if (known >= 0 && map_.Nodes()[known].branch[side_dir] != Branch::kUnknown) {
     // A junction met before whose side branch is known: pass unless the map routes into it.
+    ++junctions_;
     node_ = map_.Arrive(pos, dir_);
     if (map_.Nodes()[node_].branch[dir_] == Branch::kUnknown) map_.SetBranch(node_, dir_, Branch::kOpen);
     const int next = map_.ChooseBranch(node_, dir_);
@@ -649,21 +653,20 @@ bool Explorer::OnOpening(const Percept& p, int side, double width_m) {
     StartProbe();
     return true;
   }
+  ++junctions_;
   node_ = map_.Arrive(pos, dir_);
-  const double ahead_free = Free(p, axis_yaw_odom_, opt_.lookahead_m + 1.0);
-  const bool ahead_open = ahead_free >= opt_.sonar_end_gap_m;
-  if (map_.Nodes()[node_].branch[dir_] == Branch::kUnknown)
-    map_.SetBranch(node_, dir_, ahead_open ? Branch::kOpen : Branch::kWall);
-  if (!ahead_open) ++ends_;  // the opening is the corner at the corridor's end
+  if (map_.Nodes()[node_].branch[dir_] == Branch::kUnknown) map_.SetBranch(node_, dir_, Branch::kOpen);
   Emit(ExploreEvent::Kind::kJunction, p, 0,
        Format("opening on the %s, %.1f m wide; ahead free %.1f m", side_name, width_m, ahead_free));
   StartProbe();
+  gap_side_dir_ = side_dir;
   return true;
 }
 
 void Explorer::StartProbe() {
   last_ref_entropy_ = ReferenceEntropy();
   side_free_m_[0] = side_free_m_[1] = -1.0;
+  gap_side_dir_ = -1;
   state_ = ExploreState::kProbe;
   probe_phase_ = 0;
   look_count_ = 0;
@@ -717,8 +720,13 @@ Command Explorer::ProbeStep(const Percept& p) {
   const double h = look_sum_ / look_count_;
   side_entropy_[probe_phase_] = h;
   side_free_m_[probe_phase_] = sonar_seen_ ? Free(p, rot_.target_yaw, opt_.lookahead_m + 1.0) : -1.0;
-  const bool open = sonar_seen_ ? side_free_m_[probe_phase_] >= opt_.sonar_open_free_m
-                                : h >= opt_.open_entropy_ratio * last_ref_entropy_;
+  // With the sonar, a side is open when free for sonar_open_free_m; the side where the sonar
+  // memory showed an opening while following is also open when the entropy rule says so (from
+  // the mouth of a branch the sonar's blind range often holds a wall corner).
+  const bool open_by_entropy = h >= opt_.open_entropy_ratio * last_ref_entropy_;
+  const bool open = sonar_seen_ ? side_free_m_[probe_phase_] >= opt_.sonar_open_free_m ||
+                                      (side_dir == gap_side_dir_ && open_by_entropy)
+                                : open_by_entropy;
   map_.SetBranch(node_, side_dir, open ? Branch::kOpen : Branch::kWall);
   ++n_probes_;
   ++probe_phase_;

@@ -1,13 +1,16 @@
 // End-to-end `squint explore`: a short run writes summary.json (all keys), map.png and trace.csv;
-// bad input (unknown world, non-positive minutes) is one clear error line and no output folder.
+// a T world's side branch met from the bar is taken; bad input (unknown world, non-positive
+// minutes) is one clear error line and no output folder.
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 #include "cli_run.hpp"
@@ -38,6 +41,48 @@ TEST(ExploreCli, ShortRunWritesTheThreeOutputs) {
   EXPECT_TRUE(std::filesystem::exists(out / "map.png"));
   EXPECT_TRUE(std::filesystem::exists(out / "trace.csv"));
   std::filesystem::remove_all(out);
+}
+
+// A T met from its bar (world file): the robot must find the stem from the bar, turn into it
+// (a -90 turn near x = 12) and cover more than the bar alone (24 of 34 m) in two minutes.
+TEST(ExploreCli, TakesTheSideBranchOfATMetFromItsBar) {
+  const auto out = TempDir("tee");
+  std::filesystem::create_directories(out.parent_path());
+  const auto world = std::filesystem::temp_directory_path() / "squint_apps_explore_tee.yaml";
+  {
+    std::ofstream w(world);
+    w << "format: squint-world/1\nname: t-junction\nambient: 0.12\n"
+         "camera: {height_m: 0.60, pitch_deg: -3.0, hfov_deg: 60.0, width: 320, height: 240}\n"
+         "robot: {radius_m: 0.25, max_speed_mps: 0.6, max_turn_rate_dps: 90, start: [2.0, 0.0, 0.0]}\n"
+         "corridor_defaults: {width_m: 2.0, height_m: 2.8, floor: tiles, wall: paint, ceiling: ceiling,\n"
+         "  lights: {rows: centre, spacing_m: 3.0, size_m: [1.2, 0.3]}}\n"
+         "corridors:\n"
+         "  - {name: bar, from: [0, 0], to: [24, 0]}\n"
+         "  - {name: stem, from: [12, 0], to: [12, -10]}\n";
+  }
+  const CliResult r = RunSquint("explore --world " + world.string() + " --minutes 2 --seed 1 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.all();
+  std::ifstream js(out / "summary.json");
+  const nlohmann::json j = nlohmann::json::parse(js);
+  EXPECT_EQ(j["collisions"].get<long>(), 0);
+  EXPECT_GT(j["coverage"].get<double>(), 0.8);
+  std::ifstream ev(out / "events.csv");
+  std::string line;
+  bool junction = false, turned_into_stem = false;
+  while (std::getline(ev, line)) {
+    if (line.find(",junction,") != std::string::npos) junction = true;
+    // t_s,kind,true_x_m,true_y_m,true_yaw_deg,odom_x_m,odom_y_m,node,turn_deg,note
+    if (line.find(",turn,") == std::string::npos) continue;
+    std::stringstream ss(line);
+    std::string cell[9];
+    for (std::string& c : cell) std::getline(ss, c, ',');
+    const double x = std::stod(cell[2]), y = std::stod(cell[3]);
+    if (cell[8] == "-90" && std::abs(x - 12.0) < 1.0 && std::abs(y) < 0.8) turned_into_stem = true;
+  }
+  EXPECT_TRUE(junction);
+  EXPECT_TRUE(turned_into_stem);
+  std::filesystem::remove_all(out);
+  std::filesystem::remove(world);
 }
 
 TEST(ExploreCli, UnknownWorldIsOneClearLine) {

@@ -269,6 +269,7 @@ class Explorer {
   double look_sum_ = 0.0;
   double side_entropy_[2] = {0.0, 0.0};
   double side_free_m_[2] = {-1.0, -1.0};  // sonar free travel seen when probing each side
+  int gap_side_dir_ = -1;  // map direction of the opening that made this stop (junctions only)
   int probe_sides_[2] = {1, 3};  // relative turns (in quarter turns) to probe
   int n_probes_ = 0;
   int turn_to_dir_ = 0;

@@ -57,6 +57,8 @@ class TopoMap {
   void Depart(int node, int dir);
   // Forget the pending departure (the robot turned around mid-corridor, say).
   void CancelDeparture() { pending_node_ = -1; }
+  // The node the robot last departed from and has not yet arrived anywhere since, or -1.
+  int DepartedFrom() const { return pending_node_; }
 
   // The branch to take from `node`, where the robot arrived travelling along `arrival_dir`:
   // an open, unexplored branch first (ties in the order left, right, straight on); else the first
