@@ -1,5 +1,6 @@
 // Corridor perception timings: glance_full_us (all eight measures and fusion on one glance,
-// consecutive-frame measures included) and gate_us (the rapid-perception decision on a glance).
+// consecutive-frame measures included), gate_us (the rapid-perception decision on a glance), and
+// the parts of a glance: glance_prepare_us (levels and Sobel) and glance_<cue>_us per heading cue.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -7,7 +8,9 @@
 #include <vector>
 
 #include "squint/core/camera.hpp"
+#include "squint/corridor/heading_measures.hpp"
 #include "squint/corridor/perceiver.hpp"
+#include "squint/corridor/prepared_glance.hpp"
 
 namespace {
 
@@ -95,5 +98,42 @@ void BM_Gate(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Gate)->Name("gate_us")->Unit(benchmark::kMicrosecond);
+
+// One heading cue on a prepared glance, with the benchmark camera's horizon (as the Perceiver).
+void BM_HeadingCue(benchmark::State& state, HeadingCue cue) {
+  const HeadingOptions options;
+  const auto frame = SyntheticFrame(0);
+  Glance g;
+  MakeGlance(squint::GrayView{frame.data(), 160, 120, 160}, GlanceSampling::kPoint, g);
+  PreparedGlance prepared;
+  ComputeHistogramAndEntropy(g, 6, prepared);
+  PrepareMeasures(options.column_bits, options.vanishing_bits, prepared);
+  const auto measure = MakeHeadingMeasure(cue, options, Camera().Scaled(kGlanceWidth, kGlanceHeight).HorizonRow());
+  HeadingMeasureResult r;
+  for (auto _ : state) {
+    measure->Measure(prepared, r);
+    benchmark::DoNotOptimize(r);
+  }
+}
+BENCHMARK_CAPTURE(BM_HeadingCue, entropy, HeadingCue::kEntropy)->Name("glance_entropy_us")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_HeadingCue, symmetry, HeadingCue::kSymmetry)->Name("glance_symmetry_us")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_HeadingCue, phase, HeadingCue::kPhase)->Name("glance_phase_us")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_HeadingCue, vanishing, HeadingCue::kVanishing)->Name("glance_vanishing_us")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_HeadingCue, bright, HeadingCue::kBright)->Name("glance_bright_us")->Unit(benchmark::kMicrosecond);
+
+// The per-glance quantities the measures share (quantised levels, Sobel gradients).
+void BM_PrepareMeasures(benchmark::State& state) {
+  const HeadingOptions options;
+  const auto frame = SyntheticFrame(0);
+  Glance g;
+  MakeGlance(squint::GrayView{frame.data(), 160, 120, 160}, GlanceSampling::kPoint, g);
+  PreparedGlance prepared;
+  ComputeHistogramAndEntropy(g, 6, prepared);
+  for (auto _ : state) {
+    PrepareMeasures(options.column_bits, options.vanishing_bits, prepared);
+    benchmark::DoNotOptimize(prepared);
+  }
+}
+BENCHMARK(BM_PrepareMeasures)->Name("glance_prepare_us")->Unit(benchmark::kMicrosecond);
 
 }  // namespace
