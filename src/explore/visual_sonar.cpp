@@ -19,6 +19,7 @@ std::string VisualSonarOptions::Validate() const {
   if (!(floor_memory >= 0.0 && floor_memory < 1.0)) return "floor_memory must be in [0, 1)";
   if (!(floor_sigma_factor >= 0.0) || !std::isfinite(floor_sigma_factor)) return "floor_sigma_factor must be >= 0";
   if (!(max_range_m > 0.0) || !std::isfinite(max_range_m)) return "max_range_m must be positive";
+  if (min_reference_columns < 1 || min_reference_columns > 640) return "min_reference_columns must be in [1, 640]";
   return {};
 }
 
@@ -131,13 +132,16 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
   // floor whose far boundary has too little contrast. Its bottom rows decide: unlike the floor
   // of this frame's columns with a clear boundary -> blocked near; like it -> unknown (no
   // information). Without such a reference (a wall fills the whole view) -> blocked near.
+  // Only columns whose step stands on the floor within range count (a step at the horizon may be
+  // a mortar line or a seam on a wall that fills the view), and only when there are enough of them.
   int n_ref = 0;
   for (int u = 0; u < w; ++u) {
     const int found = rows_[static_cast<std::size_t>(u)];
-    if (found >= 0 && h - 1 - found >= reference_floor_rows_) ref_window_[static_cast<std::size_t>(n_ref++)] = bottom_[static_cast<std::size_t>(u)];
+    if (found >= 0 && h - 1 - found >= reference_floor_rows_ && raw_[static_cast<std::size_t>(u)] < options_.max_range_m)
+      ref_window_[static_cast<std::size_t>(n_ref++)] = bottom_[static_cast<std::size_t>(u)];
   }
   float floor_ref = -1.0f;
-  if (n_ref >= 3) {
+  if (n_ref >= std::max(3, options_.min_reference_columns)) {
     std::nth_element(ref_window_.begin(), ref_window_.begin() + n_ref / 2, ref_window_.begin() + n_ref);
     floor_ref = ref_window_[static_cast<std::size_t>(n_ref / 2)];
   }

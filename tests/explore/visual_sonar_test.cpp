@@ -135,6 +135,32 @@ TEST(VisualSonar, IsolatedTextureStepIsVotedOutByTheNeighbours) {
   EXPECT_LE(out[20].range_m, std::max(sonar.RangeAt(17, 30), sonar.RangeAt(23, 30)) + 1e-9);
 }
 
+// A wall filling the view with a bright line at the horizon in a few columns (a mortar course):
+// those columns read far, but they are no floor reference, so the rest stays blocked near
+// (not "unknown", which would let the robot drive into the wall).
+TEST(VisualSonar, StepsAtTheHorizonAreNoFloorReference) {
+  const CameraModel cam = SonarCamera();
+  VisualSonar sonar(cam);
+  Image wall;
+  for (auto& p : wall.px) p = 110;
+  const int horizon = static_cast<int>(std::floor(cam.HorizonRow()));
+  for (int u = 26; u <= 37; ++u)
+    for (int v = 0; v < horizon; ++v) wall.At(u, v) = 160;
+  const auto& out = sonar.Process(wall.View());
+  for (int u = 0; u < 64; ++u) {
+    if (u >= 20 && u <= 43) continue;
+    EXPECT_EQ(out[static_cast<std::size_t>(u)].kind, SonarReturn::kBlockedNear) << "column " << u;
+  }
+  // With a reference from enough columns with a clear floor step in range, a uniform column
+  // whose bottom looks like that floor is unknown.
+  Image mixed = FloorWall(std::vector<int>(64, 30));
+  for (int u = 0; u < 16; ++u)
+    for (int v = 0; v < 48; ++v) mixed.At(u, v) = 181;  // floor-grey all the way up
+  const auto& out2 = sonar.Process(mixed.View());
+  for (int u = 0; u < 10; ++u) EXPECT_EQ(out2[static_cast<std::size_t>(u)].kind, SonarReturn::kUnknown) << "column " << u;
+  for (int u = 24; u < 60; ++u) EXPECT_EQ(out2[static_cast<std::size_t>(u)].kind, SonarReturn::kBoundary) << "column " << u;
+}
+
 TEST(VisualSonar, BadInputIsAClearError) {
   const CameraModel cam = SonarCamera();
   VisualSonarOptions bad;
