@@ -246,10 +246,10 @@ std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& cu
   const auto ncc = [&](const ScaleWindow& w, double scale) {
     return Ncc(SumScale(earlier, current, w, cx, cy, scale), w);
   };
-  // Coarse grid (0.01), then a fine grid (0.001) within ±0.01 of its best, then a parabola
+  // Coarse grid (0.01), then a fine grid (0.002) within ±0.01 of its best, then a parabola
   // through the fine best and its neighbours.
-  constexpr double kCoarse = 0.01, kFine = 0.001;
-  constexpr int kHalfFine = 10;
+  constexpr double kCoarse = 0.01, kFine = 0.002;
+  constexpr int kHalfFine = 5;
   const int n_coarse = static_cast<int>(std::ceil((max_scale - 1.0) / kCoarse - 1e-9));
   double centre = 1.0, best = ncc(coarse_window, 1.0);
   for (int i = 1; i <= n_coarse; ++i) {

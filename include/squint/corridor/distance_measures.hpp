@@ -26,7 +26,7 @@ std::optional<double> TimeToContactFrames(const Glance& previous, const Glance& 
 // best matches `current` by normalised cross-correlation over the current glance's pixels p
 // within ±half_width_px columns and ±half_height_px rows of the centre (clipped to the glance).
 // NCC makes the match invariant to a gain and offset change between the frames. Searched on a
-// 0.01 grid (every other row and column of windows over 256 pixels), refined on a 0.001 grid
+// 0.01 grid (every other row and column of windows over 256 pixels), refined on a 0.002 grid
 // within ±0.01 and by a parabola through the best three. `ncc` gets the
 // best correlation. None when the window holds fewer than 12 pixels or either side is uniform.
 // A best σ at 1 (no measurable expansion) returns exactly 1.
