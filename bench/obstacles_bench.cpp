@@ -24,8 +24,9 @@ namespace ob = squint::obstacles;
 // A random blob texture; the floor is textured in world coordinates (5 mm per texel) and the
 // wall/box faces by their own coordinates, so both frames see the same scene. The texel-scale
 // component is mild (0–15 grey levels) and each rendered frame gets its own sensor noise (σ = 2),
-// as data-set frames do. SIFT finds 377 keypoints on the earlier frame (data-set frames: 170–290),
-// so the pair is a somewhat busy one. Rendering and the pipeline's construction (zone simulation)
+// as data-set frames do. OpenCV's SIFT with its doubled first octave finds 377 keypoints on the
+// earlier frame (data-set frames: 170–290), so the pair is a somewhat busy one. The pipeline runs with
+// default IptOptions, exactly as `squint obstacles` does. Rendering and the pipeline's construction (zone simulation)
 // happen before the timed loop.
 cv::Mat Texture(unsigned seed) {
   cv::Mat t(512, 512, CV_8U);

@@ -128,6 +128,22 @@ TEST_P(PipelineByDetector, FloorFeaturesHaveSmallDAndBoxFeaturesLargeD) {
   std::size_t classified = 0;
   for (const auto& f : r.measured) classified += f.cls.has_value() ? 1 : 0;
   EXPECT_EQ(classified, r.features.size());
+  // The classified discrepancy is the mirror-aware one (never above eq. 4's D, equal to it for
+  // floor points moving against the camera); with mirror_aware off it is D itself.
+  opt.mirror_aware = false;
+  const PairResult plain = IptPipeline(s.cam, opt).Process(s.ia, s.ib, s.a, s.b);
+  ASSERT_EQ(plain.measured.size(), r.measured.size());
+  for (std::size_t i = 0; i < r.measured.size(); ++i) {
+    const auto& f = r.measured[i];
+    ASSERT_EQ(f.discrepancy_m.has_value(), f.plain_discrepancy_m.has_value());
+    if (!f.discrepancy_m) continue;
+    EXPECT_LE(*f.discrepancy_m, *f.plain_discrepancy_m + 1e-12);
+    if (*f.signed_discrepancy_m >= 0.0) {
+      EXPECT_NEAR(*f.discrepancy_m, *f.plain_discrepancy_m, 1e-12);
+    }
+    ASSERT_TRUE(plain.measured[i].discrepancy_m.has_value());
+    EXPECT_EQ(*plain.measured[i].discrepancy_m, *f.plain_discrepancy_m);
+  }
 }
 
 // Streaming reuses the earlier frame's detection when it equals the last later frame; the results must
