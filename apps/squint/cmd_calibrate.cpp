@@ -95,8 +95,8 @@ void Run(const CalibrateCliOptions& opt) {
   if (fit.fit_distance) {
     const auto& d = file.options.distance;
     const auto& r = file.record.distance;
-    std::cout << fmt::format("  ttc      scale {:.3f} bias {:.2f} m (1, 0 = (s/f)*tau as is)  rmse {:.2f} m  sigma(d) = {:.2f} + {:.3f} d  n={}\n",
-                             d.ttc_scale, d.ttc_bias_m, r[0].rmse_m, r[0].sigma0_m, r[0].sigma_slope, r[0].samples);
+    std::cout << fmt::format("  ttc      scale {:.3f} (fitted {:.3f}) bias {:.2f} m (1, 0 = as is)  rmse {:.2f} m  sigma(d) = {:.2f} + {:.3f} d  n={}\n",
+                             d.ttc_scale, r[0].scale, d.ttc_bias_m, r[0].rmse_m, r[0].sigma0_m, r[0].sigma_slope, r[0].samples);
     std::cout << fmt::format("  jeffrey  alpha2 {:.4g} beta2 {:.4g}  rmse {:.2f} m  sigma(d) = {:.2f} + {:.3f} d  n={}\n",
                              d.alpha2, d.beta2, r[1].rmse_m, r[1].sigma0_m, r[1].sigma_slope, r[1].samples);
     std::cout << fmt::format("  entropy  alpha3 {:.4g}  rmse {:.2f} m  sigma(d) = {:.2f} + {:.3f} d  n={}\n", d.alpha3,
@@ -120,6 +120,8 @@ void Register(CLI::App& root) {
   cmd->add_option("--reliable-max-rmse-deg", opt->fit.heading.reliable_max_rmse_deg,
                   "A true-heading bin belongs to a cue's reliable range when its RMSE is at most this")
       ->capture_default_str();
+  cmd->add_flag("--fit-ttc-scale", opt->fit.distance.ttc_fit_scale,
+                "Apply the fitted time-to-contact scale (default: report it as a check, keep 1)");
   cmd->add_flag("--heading-weights-from-variance", opt->fit.heading_weights_from_variance,
                 "Set each heading cue's fusion weight to 1/sigma^2 of its calibrated error (the paper's rule; "
                 "default: keep the base options' weights)");

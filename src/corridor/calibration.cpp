@@ -403,13 +403,13 @@ DistanceFit FitTtcScale(std::span<const DistanceSample> samples, const std::stri
   // near-constant, so the model keeps the physical zero.
   const LineFit line = FitProportional(raw, truth, what, options.line);
   DistanceFit fit;
-  fit.scale = line.slope;
+  fit.checked_scale = line.slope;
   fit.beta = 0.0;
-  RequireFinite(fit.scale, what);
-  RequireFinite(fit.beta, what);
-  if (!(fit.scale > 0.0))
-    throw Error(what + ": the time-to-contact scale came out " + Num(fit.scale) +
+  RequireFinite(fit.checked_scale, what);
+  if (!(fit.checked_scale > 0.0))
+    throw Error(what + ": the time-to-contact scale came out " + Num(fit.checked_scale) +
                 " (must be positive): the estimates do not grow with the distance");
+  fit.scale = options.ttc_fit_scale ? fit.checked_scale : 1.0;
   std::vector<double> est(raw.size());
   for (std::size_t i = 0; i < raw.size(); ++i) est[i] = fit.scale * raw[i] + fit.beta;
   FinishDistance(fit, est, truth, line.inliers);

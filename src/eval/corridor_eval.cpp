@@ -413,7 +413,7 @@ CorridorCalibrationFile FitCorridorCalibration(const std::vector<CorridorRun>& r
           break;
       }
       d.fitted = true;
-      d.scale = fit.scale;
+      d.scale = static_cast<DistanceCue>(c) == DistanceCue::kTimeToContact ? fit.checked_scale : fit.scale;
       d.alpha = fit.alpha;
       d.beta = fit.beta;
       d.rmse_m = fit.rmse_m;

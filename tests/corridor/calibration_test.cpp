@@ -140,8 +140,15 @@ TEST(FitDistance, RecoversTtcScaleJeffreyAndEntropyConstants) {
     jd.push_back({d, (9.0 - d) / 0.5});       // d = β2 − α2 J with β2 = 9, α2 = 0.5
     ent.push_back({d, -0.02 / d});            // d = α3 / ΔH with α3 = −0.02
   }
-  const DistanceFit t = FitTtcScale(ttc, "ttc");
+  DistanceFitOptions apply;
+  apply.ttc_fit_scale = true;
+  const DistanceFit t = FitTtcScale(ttc, "ttc", apply);
   EXPECT_NEAR(t.scale, 1.25, 1e-9);
+  EXPECT_NEAR(t.checked_scale, 1.25, 1e-9);
+  // By default the scale is only checked: the applied one stays 1.
+  const DistanceFit checked = FitTtcScale(ttc, "ttc");
+  EXPECT_NEAR(checked.checked_scale, 1.25, 1e-9);
+  EXPECT_EQ(checked.scale, 1.0);
   EXPECT_NEAR(t.rmse_m, 0.0, 1e-9);
   const DistanceFit j = FitJeffrey(jd, "jeffrey");
   EXPECT_NEAR(j.alpha, 0.5, 1e-9);

@@ -105,6 +105,12 @@ struct DistanceFitOptions {
   // Samples whose true distance lies outside [min_truth_m, max_truth_m] are not used.
   double min_truth_m = 0.25;
   double max_truth_m = 30.0;
+  // Time to contact: apply the fitted scale (true) or only report it as the check and keep the
+  // physical scale 1 (false, the default). The scale search's d = s / (σ − 1) has no free
+  // constant, and on ../shared/data/drive-* the fitted scale did not carry over from the
+  // calibration corridor to the test corridors (fitted 0.79 or 1.29 depending on small changes
+  // of the search; test split within 5 m: 1.09 m calibrated against 0.71 m at scale 1).
+  bool ttc_fit_scale = false;
   std::string Validate() const;
 };
 
@@ -122,7 +128,8 @@ struct DistanceFit {
   // jeffrey: truth ≈ beta - alpha · J  (paper's β2, α2).
   // entropy: truth ≈ alpha / ΔH (paper's α3; fitted as ΔH ≈ α3 · (1/truth), the same model
   //   with errors taken in ΔH, which stays well-conditioned where ΔH crosses 0).
-  double scale = 1.0;
+  double scale = 1.0;         // applied (1 unless DistanceFitOptions::ttc_fit_scale)
+  double checked_scale = 1.0; // ttc: the fitted scale, applied or not
   double alpha = 0.0;
   double beta = 0.0;
   double rmse_m = 0.0;  // of the calibrated estimate over the used samples
