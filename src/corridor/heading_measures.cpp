@@ -183,12 +183,17 @@ void EntropyHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& out)
     for (int u = 0; u < kW; ++u) ++column_hist[u][row[u]];
   }
   const int r = options_.slice_width_px / 2;
+  // log N for each slice width (narrower only at the borders), computed once per width.
+  double log_n[kW + 1] = {};
   for (int x = 0; x < kW; ++x) {
     std::uint32_t hist[kMaxColumnBins] = {};
     const int a = std::max(0, x - r), b = std::min(kW - 1, x + r);
     for (int u = a; u <= b; ++u)
       for (int k = 0; k < bins; ++k) hist[k] += column_hist[u][k];
-    out.curve[x] = static_cast<float>(EntropyFromCounts(hist, bins, static_cast<std::uint32_t>((b - a + 1) * kH)));
+    const int width = b - a + 1;
+    const auto n = static_cast<std::uint32_t>(width * kH);
+    if (log_n[width] == 0.0) log_n[width] = std::log(static_cast<double>(n));
+    out.curve[x] = static_cast<float>(EntropyFromCounts(hist, bins, n, log_n[width]));
   }
   SetFromPeak(detail::FindPeak(out.curve, 0, kW - 1, options_.border_px, options_.min_prominence), out);
 }

@@ -25,13 +25,18 @@ double NLogN(std::uint32_t n) {
 
 double EntropyFromCounts(const std::uint32_t* counts, int bins, std::uint32_t total) {
   if (total == 0) return 0.0;
+  return EntropyFromCounts(counts, bins, total, std::log(static_cast<double>(total)));
+}
+
+double EntropyFromCounts(const std::uint32_t* counts, int bins, std::uint32_t total, double log_total) {
+  if (total == 0) return 0.0;
   const double* table = NLogNTable();
   double sum = 0.0;
   for (int i = 0; i < bins; ++i) {
     const std::uint32_t c = counts[i];
     sum += c < static_cast<std::uint32_t>(kNLogNTableSize) ? table[c] : NLogN(c);
   }
-  const double h = std::log(static_cast<double>(total)) - sum / total;
+  const double h = log_total - sum / total;
   return h > 0.0 ? h : 0.0;  // rounding can give -1e-16 for a single full bin
 }
 

@@ -33,5 +33,7 @@ const double* NLogNTable();
 // Entropy of a histogram of counts summing to `total`, using the n·log(n) table:
 // H = log(N) - Σ n_i log n_i / N.
 double EntropyFromCounts(const std::uint32_t* counts, int bins, std::uint32_t total);
+// The same with log(total) given (kernels that call it many times with a few totals).
+double EntropyFromCounts(const std::uint32_t* counts, int bins, std::uint32_t total, double log_total);
 
 }  // namespace squint::corridor
