@@ -72,10 +72,13 @@ void ObstacleMemory::ClearRay(const Eigen::Vector2d& origin, double yaw, double 
                               double stamp_s) {
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
   const double step = 0.5 * options_.cell_m;
-  for (double s = from_m; s < to_m; s += step) {
+  // Soft points (guesses along blocked-near rays) go wherever this ray saw the floor beyond the
+  // blind range: the column is not blocked near after all; boundaries only from from_m on.
+  const double start = std::min(from_m, options_.blind_points_from_m);
+  for (double s = start; s < to_m; s += step) {
     Cell& c = At(origin + s * d);
     if (s >= seen_from_m) c.free_stamp_s = stamp_s;
-    if (c.stamp_s < 0.0) continue;
+    if (c.stamp_s < 0.0 || (s < from_m && !c.soft)) continue;
     // Only points on this side of the boundary and on the ray itself (within half the spacing
     // of neighbouring columns): a cell may hold a point beside the ray, such as a wall corner.
     const Eigen::Vector2d q = c.p - origin;

@@ -285,6 +285,14 @@ TEST(ObstacleMemory, SoftPointsYieldToFloorSeen) {
   mem.Update(blocked, Pose2{}, 0.0, 1.2);
   mem.Gather(Pose2{}, 0.0);
   EXPECT_EQ(mem.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, /*use_blocked=*/false), 0.0);  // soft points from 0.6 m
+  // The same view a moment later shows floor from the bottom row up to a boundary at 1.4 m (short
+  // of the 1.6 m that clears the blind zone of boundaries): the column is not blocked near, the
+  // soft points along it go.
+  ObstacleMemory again;
+  again.Update(blocked, Pose2{}, 0.0, 1.2);
+  again.Update(WallScan(cam, 1.4), Pose2{}, 0.1, 1.2);
+  again.Gather(Pose2{}, 0.1);
+  EXPECT_NEAR(again.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, /*use_blocked=*/false), 1.4 - 0.35, 0.05);
   // Backed away 1.5 m (odometry), the same floor is now seen free up to 2.9 m from there.
   const Pose2 back{-1.5, 0.0, 0.0};
   mem.Update(WallScan(cam, 2.9), back, 1.0, 1.2);
