@@ -481,7 +481,7 @@ void VanishingScores(const std::uint8_t* small, const std::uint8_t* level, int o
 // offset (ox, oy) covers glance pixels ox..ox+15, oy..oy+11; S's pixel i has its centre at glance
 // coordinate 2i + 0.5, so glance content at x appears at ox + (x − 0.5) / 2. The lines joining
 // each glance corner to the corresponding corner of the placed S meet at the fixed point of that
-// map, x = 2·ox − 0.5 (and y = 2·oy − 0.5): the vanishing point. The search is coarse-to-fine over ox and bounded in oy.
+// map, x = 2·ox − 0.5 (and y = 2·oy − 0.5): the vanishing point. Every ox is scored; oy is bounded near the horizon.
 void VanishingHeading::Measure(const PreparedGlance& g, HeadingMeasureResult& out) const {
   out.cue = Cue();
   out.curve.fill(0.0f);
