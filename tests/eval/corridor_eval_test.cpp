@@ -116,6 +116,7 @@ std::vector<CorridorRun> PlantedRuns() {
 TEST(FitCorridorCalibration, RecoversPlantedParameters) {
   CalibrateOptions free_scale;
   free_scale.heading.fit_scale = true;  // the default fits a bias only (scale 1)
+  free_scale.distance.ttc_fit_scale = true;  // the default only checks the time-to-contact scale
   const CorridorCalibrationFile f = FitCorridorCalibration(PlantedRuns(), {"a", "b"}, {}, free_scale);
   for (int k = 0; k < corridor::kHeadingCueCount; ++k) {
     EXPECT_NEAR(f.options.heading.cues[k].scale, 0.8 + 0.1 * k, 1e-9) << k;
@@ -123,6 +124,11 @@ TEST(FitCorridorCalibration, RecoversPlantedParameters) {
     EXPECT_TRUE(f.record.heading[k].fitted);
   }
   EXPECT_NEAR(f.options.distance.ttc_scale, 1.2, 1e-9);
+  EXPECT_NEAR(f.record.distance[0].scale, 1.2, 1e-9);
+  // By default the fitted scale is recorded as the check and the options keep 1.
+  const CorridorCalibrationFile checked = FitCorridorCalibration(PlantedRuns(), {"a", "b"}, {}, CalibrateOptions{});
+  EXPECT_EQ(checked.options.distance.ttc_scale, 1.0);
+  EXPECT_NEAR(checked.record.distance[0].scale, 1.2, 1e-9);
   EXPECT_NEAR(f.options.distance.alpha2, 0.5, 1e-9);
   EXPECT_NEAR(f.options.distance.beta2, 9.0, 1e-9);
   EXPECT_NEAR(f.options.distance.alpha3, -0.02, 1e-12);
