@@ -88,6 +88,7 @@ std::string ExplorerOptions::Validate() const {
     return "branch_max_width_m must be >= branch_default_width_m";
   if (!Positive(branch_depth_m)) return "branch_depth_m must be positive";
   if (!Positive(branch_max_heading_deg)) return "branch_max_heading_deg must be positive";
+  if (!Positive(branch_known_radius_m)) return "branch_known_radius_m must be positive";
   if (std::string e = memory.Validate(); !e.empty()) return "memory." + e;
   if (std::string e = map.Validate(); !e.empty()) return "map." + e;
   return {};
@@ -639,6 +640,9 @@ bool Explorer::OnOpening(const Percept& p, int side, double width_m) {
   if (known >= 0 && known == map_.DepartedFrom()) return false;  // still leaving that junction
   if (known >= 0 && map_.Nodes()[known].branch[side_dir] != Branch::kUnknown) {
     // A junction met before whose side branch is known: pass unless the map routes into it.
+    // Far from the node's position (e.g. an opening seen while leaving a side branch at an
+    // angle) it is left alone: the end detection or the next opening takes over.
+    if ((map_.Nodes()[known].position_m - pos).norm() > opt_.branch_known_radius_m) return false;
     ++junctions_;
     node_ = map_.Arrive(pos, dir_);
     if (map_.Nodes()[node_].branch[dir_] == Branch::kUnknown) map_.SetBranch(node_, dir_, Branch::kOpen);

@@ -111,6 +111,7 @@ struct ExplorerOptions {
   double branch_max_width_m = 4.0;       // a longer gap is not treated as one side branch
   double branch_depth_m = 2.0;
   double branch_max_heading_deg = 15.0;  // no stop while heading farther than this off the axis
+  double branch_known_radius_m = 0.8;    // a known junction is used only this close to its node
   ObstacleMemoryOptions memory;
   TopoMapOptions map;
 
