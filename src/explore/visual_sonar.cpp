@@ -132,13 +132,12 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
   // floor whose far boundary has too little contrast. Its bottom rows decide: unlike the floor
   // of this frame's columns with a clear boundary -> blocked near; like it -> unknown (no
   // information). Without such a reference (a wall fills the whole view) -> blocked near.
-  // Only columns whose step stands on the floor within range count (a step at the horizon may be
-  // a mortar line or a seam on a wall that fills the view), and only when there are enough of them.
+  // Only when enough columns have such a step (a few steps at the horizon may be a mortar line or
+  // a seam on a wall that fills the view).
   int n_ref = 0;
   for (int u = 0; u < w; ++u) {
     const int found = rows_[static_cast<std::size_t>(u)];
-    if (found >= 0 && h - 1 - found >= reference_floor_rows_ && raw_[static_cast<std::size_t>(u)] < options_.max_range_m)
-      ref_window_[static_cast<std::size_t>(n_ref++)] = bottom_[static_cast<std::size_t>(u)];
+    if (found >= 0 && h - 1 - found >= reference_floor_rows_) ref_window_[static_cast<std::size_t>(n_ref++)] = bottom_[static_cast<std::size_t>(u)];
   }
   float floor_ref = -1.0f;
   if (n_ref >= std::max(3, options_.min_reference_columns)) {

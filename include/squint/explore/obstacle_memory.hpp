@@ -31,7 +31,7 @@ struct ObstacleMemoryOptions {
   // point. They keep a corner that passed through the blind zone (and out of view while the
   // robot turns) known. 0 turns them off.
   double blind_points_from_m = 0.6;
-  double blind_points_keep_s = 20.0;  // soft points older than this are forgotten
+  double blind_points_keep_s = 5.0;   // soft points older than this are forgotten
   std::string Validate() const;
 };
 

@@ -23,7 +23,7 @@ struct VisualSonarOptions {
   int median_half_width = 3;     // ranges are the median over 2m + 1 neighbouring columns
   double max_range_m = 6.0;      // boundaries farther than this (or at the horizon) read as far
   // Columns without a step are told apart (blocked near / unknown) by the floor of the columns
-  // with a step within max_range_m; fewer such columns than this: no reference (blocked near).
+  // with a step; fewer such columns than this: no reference (blocked near).
   int min_reference_columns = 8;
   std::string Validate() const;  // empty when valid
 };
