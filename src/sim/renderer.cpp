@@ -11,6 +11,8 @@
 // tables), other pixels shade their samples on the planes met without a full trace (a pixel
 // that one wall/floor or wall/ceiling line splits: each sample's side from that line's affine
 // image equation, with no plane search).
+// Mirrors reflect the robot's own body (RobotSpec: a matte vertical cylinder around the camera),
+// which only reflected rays meet: a robot facing a mirror at distance d sees itself at 2d.
 #include "squint/sim/renderer.hpp"
 
 #include <fmt/format.h>
@@ -60,7 +62,7 @@ struct Sample {
   double RangePerH() const { return std::sqrt(1.0 + static_cast<double>(k) * k); }  // 3-D per horizontal metre
 };
 
-enum class Surf : std::uint8_t { kNone, kFloor, kCeiling, kWall, kObsSide, kObsTop, kObsBottom, kInside };
+enum class Surf : std::uint8_t { kNone, kFloor, kCeiling, kWall, kObsSide, kObsTop, kObsBottom, kInside, kBody };
 
 struct Hit {
   Surf surf = Surf::kNone;
@@ -165,6 +167,11 @@ struct Renderer::Impl {
   std::vector<double> bin_near;      // per bin: nearest obstacle bounding circle
   // Per frame.
   double px = 0, py = 0, cyaw = 1, syaw = 0, cam_h = 0, frame_ceiling = 2.8;
+  // The robot's body (mirror worlds): radius, top, albedo; per frame its side irradiance for
+  // kBodyDirs outward normals (world-frame azimuth 2 pi i / kBodyDirs) and its top's.
+  static constexpr int kBodyDirs = 8;
+  double body_r = 0.25, body_top = 0.7, body_albedo = 0.35;
+  double body_side_irr[kBodyDirs + 1] = {}, body_top_irr = 0;
   // The view's horizontal wedge (robot frame), widened by a margin, for culling what cannot be
   // seen: its right and left boundary directions, per margin (0: walls, 1: image outlines).
   struct Wedge {
@@ -299,6 +306,9 @@ struct Renderer::Impl {
     }
     for (const WallSegment& ws : world.walls) has_mirrors = has_mirrors || world.materials[ws.material].mirror > 0;
     for (const Decal& d : decals) has_mirrors = has_mirrors || world.materials[d.material].mirror > 0;
+    body_r = world.robot.radius_m;
+    body_top = cam.height_m + world.robot.body_above_camera_m;
+    body_albedo = world.robot.body_grey;
 
     gamma_lut.resize(kGammaLutSize);
     for (int i = 0; i < kGammaLutSize; ++i) {
@@ -443,6 +453,7 @@ struct Renderer::Impl {
     syaw = std::sin(pose.yaw);
     cam_h = camera.height_m;
     frame_ceiling = uniform_ceiling ? ceiling_h : std::max(cam_h + 0.01, world.CeilingAt({px, py}));
+    if (has_mirrors) PrepareBodyLight();
     const double yaw0 = pose.yaw + a_min;
     // Walls into the bearing table.
     std::fill(edge_wall.begin(), edge_wall.end(), -1);
@@ -520,6 +531,60 @@ struct Renderer::Impl {
         if (hi < 0 || lo > bins * d_a) continue;
         add(static_cast<int>(std::floor(lo / d_a)) - 1, static_cast<int>(std::ceil(hi / d_a)) + 1);
       }
+    }
+  }
+
+  // The body's irradiance this frame: its side at mid-height for kBodyDirs outward normals and
+  // its top, from the lights visible from the robot's centre (as obstacles are lit; the body
+  // casts no shadow). Allocation-free: the lights are tested one by one.
+  void PrepareBodyLight() {
+    const double mid = 0.5 * body_top;
+    for (int i = 0; i < kBodyDirs; ++i) body_side_irr[i] = world.ambient;
+    body_top_irr = world.ambient;
+    for (const Light& l : world.lights) {
+      if (!l.on) continue;
+      const Eigen::Vector2d d2(px - l.centre.x(), py - l.centre.y());
+      const double hd = d2.norm();
+      if (hd > kLightRadius) continue;
+      if (hd > 1e-6) {
+        const auto hit = world.CastWalls(l.centre, d2 / hd);
+        if (hit && hit->first < hd - 2e-3) continue;
+      }
+      const double scale = l.intensity * l.z_m * l.z_m;
+      for (int i = 0; i < kBodyDirs; ++i) {
+        const double a = 2 * kPi * i / kBodyDirs, nx = std::cos(a), ny = std::sin(a);
+        const double sx = px + nx * (body_r + 0.01), sy = py + ny * (body_r + 0.01);
+        const double vx = l.centre.x() - sx, vy = l.centre.y() - sy, vz = l.z_m - mid;
+        const double dist2 = vx * vx + vy * vy + vz * vz, dist = std::sqrt(dist2);
+        const double cos_e = vz / dist, cos_r = (vx * nx + vy * ny) / dist;
+        if (cos_e > 0 && cos_r > 0) body_side_irr[i] += scale * cos_e * cos_r / dist2;
+      }
+      const double vx = l.centre.x() - px, vy = l.centre.y() - py, vz = l.z_m - body_top;
+      const double dist2 = vx * vx + vy * vy + vz * vz;
+      if (vz > 0) body_top_irr += scale * (vz / std::sqrt(dist2)) * (vz / std::sqrt(dist2)) / dist2;
+    }
+    body_side_irr[kBodyDirs] = body_side_irr[0];
+  }
+
+  // The robot's body against a reflected ray from (ox, oy, oz) with horizontal direction
+  // (dx, dy) and slope k; updates `hit` when nearer. A ray starting inside the body (a primary
+  // ray: the camera is inside it) never meets it.
+  void HitBody(double ox, double oy, double oz, double dx, double dy, double k, Hit& hit) const {
+    const double lx = ox - px, ly = oy - py;
+    const double cc = lx * lx + ly * ly - body_r * body_r;
+    if (cc <= 0) return;
+    const double b = lx * dx + ly * dy;
+    const double disc = b * b - cc;
+    if (b >= 0 || disc < 0) return;  // heading away, or passing by
+    const double sq = std::sqrt(disc);
+    const double tin = -b - sq, tout = -b + sq;
+    if (tin >= hit.r) return;
+    const double z_in = oz + k * tin;
+    if (z_in >= 0 && z_in <= body_top) {
+      hit = {Surf::kBody, -1, tin, std::atan2(ly + dy * tin, lx + dx * tin), z_in, 0};
+    } else if (z_in > body_top && k < 0) {
+      const double t = (body_top - oz) / k;
+      if (t <= tout && t < hit.r) hit = {Surf::kBody, -1, t, 0, body_top, 1};
     }
   }
 
@@ -695,6 +760,7 @@ struct Renderer::Impl {
       const double rx = ox - ob.centre.x(), ry = oy - ob.centre.y();
       HitObstacle(static_cast<int>(o), c * rx + s * ry, -s * rx + c * ry, oz, dx, dy, k, hit);
     }
+    HitBody(ox, oy, oz, dx, dy, k, hit);
     return hit;
   }
 
@@ -762,7 +828,8 @@ struct Renderer::Impl {
     const double x = ox + dx * hit.r, y = oy + dy * hit.r;
     switch (hit.surf) {
       case Surf::kNone:
-      case Surf::kInside: p.exact = true; return p;
+      case Surf::kInside:
+      case Surf::kBody: p.exact = true; return p;  // (the body: reflected rays only, never here)
       case Surf::kFloor: {
         const Cell& cell = cells[GridIndex(x, y)];
         double lx = 0.0, ly = 0.0;
@@ -930,6 +997,14 @@ struct Renderer::Impl {
       case Surf::kObsBottom: {
         const Obstacle& ob = world.obstacles[hit.id];
         return mats[ob.material].albedo * world.ambient;
+      }
+      case Surf::kBody: {
+        if (hit.face == 1) return body_albedo * body_top_irr;
+        // The side: the irradiance table interpolated at the outward normal's azimuth (face_u).
+        double f = hit.face_u * (kBodyDirs / (2 * kPi));
+        if (f < 0) f += kBodyDirs;
+        const int i = std::min(static_cast<int>(f), kBodyDirs - 1);
+        return body_albedo * (body_side_irr[i] + (f - i) * (body_side_irr[i + 1] - body_side_irr[i]));
       }
     }
     return 0.0;

@@ -323,6 +323,11 @@ void World::Build() {
       }
   }
 
+  // The robot's body (as mirrors show it).
+  if (!(robot.body_above_camera_m >= 0) || !std::isfinite(robot.body_above_camera_m))
+    fail("robot.body_above_camera_m must not be negative");
+  if (!(robot.body_grey >= 0 && robot.body_grey <= 1)) fail("robot.body_grey must lie in [0, 1]");
+
   // The robot's start.
   const Eigen::Vector2d s = start.Translation();
   if (!IsFree(s) || DistanceToWalls(s) < robot.radius_m)

@@ -206,10 +206,13 @@ World ParseWorld(const std::string& yaml_text, const std::string& source) {
     w.camera.height = p.Int(c, "height", "camera", w.camera.height, 1);
   }
   if (const YAML::Node r = root["robot"]) {
-    p.CheckKeys(r, "robot", {"radius_m", "max_speed_mps", "max_turn_rate_dps", "start"});
+    p.CheckKeys(r, "robot",
+                {"radius_m", "max_speed_mps", "max_turn_rate_dps", "start", "body_above_camera_m", "body_grey"});
     w.robot.radius_m = p.Positive(r, "radius_m", "robot", w.robot.radius_m);
     w.robot.max_speed_mps = p.Positive(r, "max_speed_mps", "robot", w.robot.max_speed_mps);
     w.robot.max_turn_rate_dps = p.Positive(r, "max_turn_rate_dps", "robot", w.robot.max_turn_rate_dps);
+    w.robot.body_above_camera_m = p.NonNegative(r, "body_above_camera_m", "robot", w.robot.body_above_camera_m);
+    w.robot.body_grey = p.Unit(r, "body_grey", "robot", w.robot.body_grey);
     if (r["start"]) {
       const auto s = p.Vec(r, "start", "robot", 2, 3);
       w.start = {s[0], s[1], s.size() > 2 ? DegToRad(s[2]) : 0.0};

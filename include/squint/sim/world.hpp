@@ -123,6 +123,11 @@ struct RobotSpec {
   double radius_m = 0.25;
   double max_speed_mps = 0.6;
   double max_turn_rate_dps = 90.0;
+  // The body as mirrors show it (the renderer adds it to reflected rays only): a matte vertical
+  // cylinder of radius_m on the floor around the rotation centre, reaching this far above the
+  // camera's optical centre, with this diffuse reflectance (0..1).
+  double body_above_camera_m = 0.1;
+  double body_grey = 0.35;
 };
 
 // The camera mount as a world file gives it; Model() is the pinhole camera (square pixels,
