@@ -62,6 +62,8 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(stall_min_progress_m)) return "stall_min_progress_m must be >= 0";
   if (!NonNegative(avoid_gain)) return "avoid_gain must be >= 0";
   if (!(avoid_speed_fraction > 0.0 && avoid_speed_fraction <= 1.0)) return "avoid_speed_fraction must be in (0, 1]";
+  if (!Positive(avoid_hold_s)) return "avoid_hold_s must be positive";
+  if (avoid_blocked_frames < 1) return "avoid_blocked_frames must be >= 1";
   if (!Positive(robot_radius_m)) return "robot_radius_m must be positive";
   if (!NonNegative(safety_margin_m)) return "safety_margin_m must be >= 0";
   if (!NonNegative(stop_margin_m)) return "stop_margin_m must be >= 0";
@@ -538,13 +540,8 @@ Command Explorer::FollowStep(const Percept& p) {
 
   const double heading = WrapPi(p.odom_T_robot.yaw - axis_yaw_odom_);
   Command cmd;
-  if (p.obstacles && p.obstacles->obstacle_in_roi) {
-    // Obstacles in the region of interest override corridor following: free-gap steering.
-    if (p.obstacles->blocked) return {0.0, 0.0};
-    cmd.omega_rps = std::clamp(opt_.avoid_gain * DegToRad(p.obstacles->steer_deg), -opt_.max_omega_rps, opt_.max_omega_rps);
-    cmd.v_mps = opt_.cruise_speed_mps * opt_.avoid_speed_fraction;
-    return cmd;
-  }
+  // Obstacles across the path in the region of interest override corridor following.
+  if (ObstacleOverride(p, &cmd)) return cmd;
   double correction = lateral_valid_ ? std::clamp(-opt_.centre_gain * lateral_cue_deg_, -opt_.max_centre_correction_deg,
                                                   opt_.max_centre_correction_deg)
                                      : 0.0;
@@ -569,6 +566,37 @@ Command Explorer::FollowStep(const Percept& p) {
   const double frac = std::max(opt_.min_speed_fraction, 1.0 - std::abs(RadToDeg(err)) / opt_.slow_heading_deg);
   cmd.v_mps = opt_.cruise_speed_mps * frac;
   return cmd;
+}
+
+// --- Obstacle override (the obstacle pipeline's advice) ----------------------------------------
+
+bool Explorer::ObstacleOverride(const Percept& p, Command* cmd) {
+  if (p.obstacles) {
+    avoid_advice_ = *p.obstacles;
+    avoid_stamp_s_ = p.stamp_s;
+    avoid_yaw_ = p.odom_T_robot.yaw;
+    avoid_blocked_count_ = avoid_advice_.in_path && avoid_advice_.blocked ? avoid_blocked_count_ + 1 : 0;
+  }
+  if (avoid_stamp_s_ < 0.0 || p.stamp_s - avoid_stamp_s_ > opt_.avoid_hold_s || !avoid_advice_.in_path) return false;
+  ++avoid_overrides_;
+  if (avoid_advice_.blocked) {
+    *cmd = {};
+    if (avoid_blocked_count_ < opt_.avoid_blocked_frames) return true;  // stop, wait for confirmation
+    // Stop and turn: look to both sides and choose, as at a blockage (kBackOff with no reversing).
+    ++avoid_stops_;
+    avoid_blocked_count_ = 0;
+    avoid_stamp_s_ = -1.0;
+    Emit(ExploreEvent::Kind::kStall, p, 0,
+         Format("obstacle %.2f m ahead and no free gap: stop and turn", avoid_advice_.nearest_in_path_m));
+    state_ = ExploreState::kBackOff;
+    backoff_until_s_ = p.stamp_s;
+    return true;
+  }
+  // Steer toward the widest free gap, its direction held in the odometry frame between advices.
+  const double err = WrapPi(avoid_yaw_ + DegToRad(avoid_advice_.steer_deg) - p.odom_T_robot.yaw);
+  cmd->omega_rps = std::clamp(opt_.avoid_gain * err, -opt_.max_omega_rps, opt_.max_omega_rps);
+  cmd->v_mps = opt_.cruise_speed_mps * opt_.avoid_speed_fraction;
+  return true;
 }
 
 // --- Side branches met while following ---------------------------------------------------------

@@ -73,9 +73,15 @@ struct ExplorerOptions {
   // Stall guard from odometry alone: commanded forward but the wheels did not move.
   double stall_window_s = 1.0;
   double stall_min_progress_m = 0.05;
-  // Obstacle override (used only when Percepts carry ObstacleAdvice).
+  // Obstacle override (used only when Percepts carry ObstacleAdvice): while the latest advice
+  // (at most avoid_hold_s old) has an obstacle across the path, steer toward its free gap
+  // (ω = avoid_gain · error to the gap's direction, held in the odometry frame) at
+  // avoid_speed_fraction of cruise; on avoid_blocked_frames consecutive blocked advices, stop and
+  // turn (probe both sides, as at a blockage). Clear advice hands back to corridor following.
   double avoid_gain = 1.5;
   double avoid_speed_fraction = 0.5;
+  double avoid_hold_s = 0.5;
+  int avoid_blocked_frames = 2;
   // Visual sonar (used when Percepts carry scans): remembered floor contacts limit the speed so
   // that the robot's disc stops before anything it saw, steer around obstacles, centre the
   // robot between the side walls, detect the corridor's end and tell open sides from walls.
@@ -181,6 +187,9 @@ class Explorer {
   int EndsDetected() const { return ends_; }
   // Side openings met while following and recorded as junctions (stopped at or passed).
   int JunctionsDetected() const { return junctions_; }
+  // Frames on which the obstacle override steered (or stopped) the robot, and its stop-and-turns.
+  long ObstacleOverrides() const { return avoid_overrides_; }
+  int ObstacleStops() const { return avoid_stops_; }
 
  private:
   struct Rotation {
@@ -286,6 +295,16 @@ class Explorer {
   double last_scan_yaw_ = 0.0;
   long speed_limited_ = 0;
   bool rescan_ = false;  // the scan under way is a recovery (keeps the map frame)
+
+  // Obstacle override: the latest advice, when and at which odometry yaw it was taken.
+  // Returns true (and the command) when the advice overrides corridor following.
+  bool ObstacleOverride(const Percept& p, Command* cmd);
+  ObstacleAdvice avoid_advice_;
+  double avoid_stamp_s_ = -1.0;
+  double avoid_yaw_ = 0.0;
+  int avoid_blocked_count_ = 0;
+  long avoid_overrides_ = 0;
+  int avoid_stops_ = 0;
 };
 
 }  // namespace squint::explore

@@ -2,6 +2,7 @@
 // commands. Nothing here comes from a simulator's ground truth: the explorer is blind to it.
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -10,11 +11,14 @@
 
 namespace squint::explore {
 
-// Advice of the obstacle pipeline (issue 6's polar map and free-gap steering), when it runs.
+// Advice of the obstacle pipeline (issue 6's polar map and free-gap steering), when it runs
+// (explore/obstacle_advice.hpp builds it). Bearings relative to the robot's heading at the frame.
 struct ObstacleAdvice {
   bool obstacle_in_roi = false;  // some sector of the region of interest is occupied
+  bool in_path = false;          // an occupied sector lies across the robot's path straight ahead
+  double nearest_in_path_m = std::numeric_limits<double>::infinity();  // distance ahead to it
   bool blocked = false;          // no free gap wide enough for the robot
-  double steer_deg = 0.0;        // centre of the widest free gap, left positive
+  double steer_deg = 0.0;        // centre of the widest free gap, left positive (0 when blocked)
 };
 
 // One camera frame's worth of perception, as the explorer consumes it. All estimates come from
