@@ -122,6 +122,9 @@ void Register(CLI::App& root) {
       ->capture_default_str();
   cmd->add_flag("--fit-ttc-scale", opt->fit.distance.ttc_fit_scale,
                 "Apply the fitted time-to-contact scale (default: report it as a check, keep 1)");
+  cmd->add_flag("--no-heading-filter{false}", opt->fit.heading_filter,
+                "Keep the per-frame heading fusion in the written options (default: the heading filter over "
+                "time is turned on, each cue's fitted sigma its measurement noise; docs/calibration.md)");
   cmd->add_flag("--heading-weights-from-variance", opt->fit.heading_weights_from_variance,
                 "Set each heading cue's fusion weight to 1/sigma^2 of its calibrated error (the paper's rule; "
                 "default: keep the base options' weights)");

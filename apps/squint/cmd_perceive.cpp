@@ -12,6 +12,7 @@
 
 #include "command.hpp"
 #include "squint/config/corridor_yaml.hpp"
+#include "squint/core/angles.hpp"
 #include "squint/core/error.hpp"
 #include "squint/core/pose.hpp"
 #include "squint/corridor/perceiver.hpp"
@@ -35,7 +36,7 @@ struct PerceiveOptions {
 constexpr const char* kHeader =
     "stamp,processed,heading_deg,dist_end_m,heading_entropy_deg,heading_symmetry_deg,heading_phase_deg,"
     "heading_vanishing_deg,heading_bright_deg,dist_ttc_m,dist_jeffrey_m,dist_entropy_m,"
-    "gate_change,gt_heading_deg,gt_dist_end_m,heading_reasons,distance_reasons";
+    "gate_change,gt_heading_deg,gt_dist_end_m,heading_reasons,distance_reasons,heading_instant_deg";
 
 std::string Cell(const std::optional<double>& v, int decimals) {
   if (!v || !std::isfinite(*v)) return {};
@@ -66,7 +67,7 @@ void WriteRow(std::ostream& os, const io::Frame& frame, const corridor::Percepti
       reasons += std::string(corridor::CueName(d.cue)) + ':' + corridor::ReasonText(d.reason);
     }
   }
-  os << ',' << reasons << '\n';
+  os << ',' << reasons << ',' << Cell(r.heading_instant_deg, 3) << '\n';
 }
 
 void Run(const PerceiveOptions& opt) {
@@ -87,16 +88,17 @@ void Run(const PerceiveOptions& opt) {
       throw Error(source->Describe() + ": frame " + std::to_string(frame->index) + " is not an 8-bit grey or colour image");
     const corridor::PixelView view{img.data, img.cols, img.rows, static_cast<std::ptrdiff_t>(img.step[0]),
                                    img.channels()};
-    std::optional<double> travelled_m;
+    std::optional<double> travelled_m, turned_deg;
     double dt_s = 0.0;
     if (previous) {
       dt_s = std::max(0.0, frame->stamp - previous->stamp);
       if (previous->odom && frame->odom) {
         const Pose2 motion = Between(*previous->odom, *frame->odom);
         travelled_m = std::hypot(motion.x, motion.y);
+        turned_deg = RadToDeg(WrapPi(motion.yaw));
       }
     }
-    const corridor::PerceptionResult r = perceiver.Process(view, travelled_m, dt_s);
+    const corridor::PerceptionResult r = perceiver.Process(view, travelled_m, dt_s, turned_deg);
     WriteRow(csv, *frame, r);
     previous = std::move(frame);
     progress.Update(++n);
@@ -121,7 +123,8 @@ void Register(CLI::App& root) {
       "Columns: stamp,processed,heading_deg,dist_end_m, the five heading cues (entropy, symmetry,\n"
       "phase, vanishing, bright; deg, left positive), the three distance cues (ttc, jeffrey,\n"
       "entropy; m), then extras: gate_change, gt_heading_deg, gt_dist_end_m (ground truth when the\n"
-      "input has it), heading_reasons, distance_reasons (why a cue gave no estimate).\n"
+      "input has it), heading_reasons, distance_reasons (why a cue gave no estimate), heading_instant_deg\n"
+      "(the per-frame fusion; heading_deg is the heading filter's state when the options enable it).\n"
       "An empty cell means no estimate; processed is 0 where the rapid-perception gate skipped the frame.");
   cmd->add_option("INPUT", opt->input, "Sequence folder, image folder or video file")->required();
   cmd->add_option("--calib", opt->calib, "Corridor options YAML (see include/squint/config/corridor_yaml.hpp)");

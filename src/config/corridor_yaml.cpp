@@ -72,6 +72,7 @@ void ReadHeading(const YAML::Node& node, const std::string& source, corridor::He
         m.Get("weight", h.cues[i].weight);
         m.Get("scale", h.cues[i].scale);
         m.Get("bias_deg", h.cues[i].bias_deg);
+        m.Get("std_deg", h.cues[i].std_deg);
         m.CheckUnknown();
       }
     }
@@ -101,6 +102,16 @@ void ReadHeading(const YAML::Node& node, const std::string& source, corridor::He
   r.Get("agreement_deg", h.agreement_deg);
   r.Get("min_consensus_cues", h.min_consensus_cues);
   r.Get("fallback_deg_per_column", h.fallback_deg_per_column);
+  if (auto f = r.Child("filter")) {
+    MapReader m(*f, "heading.filter", source);
+    m.Get("enabled", h.filter.enabled);
+    m.Get("process_std_deg", h.filter.process_std_deg);
+    m.Get("odom_noise_fraction", h.filter.odom_noise_fraction);
+    m.Get("no_odom_std_deg", h.filter.no_odom_std_deg);
+    m.Get("gate_chi2", h.filter.gate_chi2);
+    m.Get("reinit_after_rejections", h.filter.reinit_after_rejections);
+    m.CheckUnknown();
+  }
   r.CheckUnknown();
 }
 
@@ -210,7 +221,8 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
     e << YAML::Key << corridor::CueName(static_cast<HeadingCue>(i)) << YAML::Value << YAML::Flow << YAML::BeginMap
       << YAML::Key << "enabled" << YAML::Value << h.cues[i].enabled << YAML::Key << "weight" << YAML::Value
       << h.cues[i].weight << YAML::Key << "scale" << YAML::Value << h.cues[i].scale << YAML::Key << "bias_deg"
-      << YAML::Value << h.cues[i].bias_deg << YAML::EndMap;
+      << YAML::Value << h.cues[i].bias_deg << YAML::Key << "std_deg" << YAML::Value << h.cues[i].std_deg
+      << YAML::EndMap;
   }
   e << YAML::EndMap;
   e << YAML::Key << "slice_width_px" << YAML::Value << h.slice_width_px;
@@ -237,6 +249,12 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
   e << YAML::Key << "agreement_deg" << YAML::Value << h.agreement_deg;
   e << YAML::Key << "min_consensus_cues" << YAML::Value << h.min_consensus_cues;
   e << YAML::Key << "fallback_deg_per_column" << YAML::Value << h.fallback_deg_per_column;
+  e << YAML::Key << "filter" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "enabled"
+    << YAML::Value << h.filter.enabled << YAML::Key << "process_std_deg" << YAML::Value << h.filter.process_std_deg
+    << YAML::Key << "odom_noise_fraction" << YAML::Value << h.filter.odom_noise_fraction << YAML::Key
+    << "no_odom_std_deg" << YAML::Value << h.filter.no_odom_std_deg << YAML::Key << "gate_chi2" << YAML::Value
+    << h.filter.gate_chi2 << YAML::Key << "reinit_after_rejections" << YAML::Value
+    << h.filter.reinit_after_rejections << YAML::EndMap;
   e << YAML::EndMap;
   const auto& d = o.distance;
   e << YAML::Key << "distance" << YAML::Value << YAML::BeginMap;

@@ -53,6 +53,16 @@ const char* ReasonText(Reason reason) {
   return "?";
 }
 
+std::string HeadingFilterOptions::Validate() const {
+  if (!Finite(process_std_deg) || process_std_deg < 0.0) return "heading.filter.process_std_deg must be >= 0";
+  if (!Finite(odom_noise_fraction) || odom_noise_fraction < 0.0)
+    return "heading.filter.odom_noise_fraction must be >= 0";
+  if (!Finite(no_odom_std_deg) || no_odom_std_deg < 0.0) return "heading.filter.no_odom_std_deg must be >= 0";
+  if (!Finite(gate_chi2) || gate_chi2 <= 0.0) return "heading.filter.gate_chi2 must be > 0";
+  if (reinit_after_rejections < 1) return "heading.filter.reinit_after_rejections must be >= 1";
+  return {};
+}
+
 std::string HeadingOptions::Validate() const {
   std::ostringstream e;
   for (int i = 0; i < kHeadingCueCount; ++i) {
@@ -61,6 +71,7 @@ std::string HeadingOptions::Validate() const {
     if (!Finite(c.weight) || c.weight < 0.0) e << "heading.cues." << name << ".weight must be >= 0; ";
     if (!Finite(c.scale) || c.scale == 0.0) e << "heading.cues." << name << ".scale must be finite and non-zero; ";
     if (!Finite(c.bias_deg)) e << "heading.cues." << name << ".bias_deg must be finite; ";
+    if (!Finite(c.std_deg) || c.std_deg <= 0.0) e << "heading.cues." << name << ".std_deg must be > 0; ";
   }
   if (slice_width_px < 1 || slice_width_px > 15) e << "heading.slice_width_px must be in [1, 15]; ";
   if (border_px < 0 || border_px > 8) e << "heading.border_px must be in [0, 8]; ";
@@ -95,6 +106,7 @@ std::string HeadingOptions::Validate() const {
     e << "heading.min_consensus_cues must be in [1, " << kHeadingCueCount << "]; ";
   if (!Finite(fallback_deg_per_column) || fallback_deg_per_column <= 0.0)
     e << "heading.fallback_deg_per_column must be > 0; ";
+  if (const std::string f = filter.Validate(); !f.empty()) e << f << "; ";
   std::string s = e.str();
   if (s.size() >= 2) s.resize(s.size() - 2);
   return s;

@@ -1,5 +1,6 @@
 // Corridor perception pipeline: glance, rapid-perception gate (§5.3), the eight measures and
-// their fusion (weighted consensus for heading, weighted mean for distance).
+// their fusion (weighted consensus for heading, weighted mean for distance), and the optional
+// heading filter over time.
 #include "squint/corridor/perceiver.hpp"
 
 #include <algorithm>
@@ -14,6 +15,17 @@ namespace {
 // Odometry travel per frame below this (metres) means the robot stands or turns in place: the
 // distance cues' history restarts.
 constexpr double kMinDrivingTravelM = 1e-3;
+
+// The heading filter's options in the Kalman filter's terms (its distance half stays unused).
+CorridorKalmanOptions HeadingFilterKalmanOptions(const HeadingFilterOptions& f) {
+  CorridorKalmanOptions k;
+  k.heading_process_std_deg = f.process_std_deg;
+  k.heading_odom_noise_fraction = f.odom_noise_fraction;
+  k.no_odom_heading_std_deg = f.no_odom_std_deg;
+  k.gate_chi2 = f.gate_chi2;
+  k.reinit_after_rejections = f.reinit_after_rejections;
+  return k;
+}
 
 }  // namespace
 
@@ -43,6 +55,7 @@ Perceiver::Perceiver(const Options& options, std::optional<CameraModel> camera)
     : options_(options), gate_(options.gate) {
   const std::string problem = options_.Validate();
   if (!problem.empty()) throw Error("corridor options: " + problem);
+  heading_filter_ = CorridorKalman(HeadingFilterKalmanOptions(options_.heading.filter));
   std::optional<double> horizon_row;
   if (camera && camera->HasIntrinsics() && camera->width > 0 && camera->height > 0) {
     glance_camera_ = camera->Scaled(kGlanceWidth, kGlanceHeight);
@@ -74,6 +87,7 @@ void Perceiver::Reset() {
   gate_ = RapidPerceptionGate(options_.gate);
   has_previous_ = false;
   ResetDistanceHistory();
+  heading_filter_.Reset();
 }
 
 void Perceiver::ResetDistanceHistory() {
@@ -162,20 +176,42 @@ void Perceiver::FuseHeadingCurves(PerceptionResult& result) const {
     h.fused = h.heading_deg && std::abs(*h.heading_deg - deg) <= options_.heading.agreement_deg;
 }
 
-PerceptionResult Perceiver::Process(const PixelView& frame, std::optional<double> travelled_m, double dt_s) {
+void Perceiver::PredictHeading(std::optional<double> travelled_m, std::optional<double> turned_deg) {
+  if (!options_.heading.filter.enabled) return;
+  std::optional<Pose2> motion;
+  if (turned_deg && std::isfinite(*turned_deg)) motion = Pose2{travelled_m.value_or(0.0), 0.0, DegToRad(*turned_deg)};
+  heading_filter_.Predict(motion);
+}
+
+void Perceiver::FilterHeading(PerceptionResult& result) {
+  result.heading_instant_deg = result.heading_deg;
+  if (!options_.heading.filter.enabled) return;
+  // Each cue's calibrated estimate is one measurement with the cue's σ, in cue order.
+  for (int i = 0; i < kHeadingCueCount; ++i) {
+    const HeadingMeasureResult& h = result.heading[i];
+    if (h.heading_deg) heading_filter_.UpdateHeading(*h.heading_deg, options_.heading.cues[i].std_deg);
+  }
+  result.heading_deg.reset();
+  const std::optional<double> state = heading_filter_.HeadingDeg();
+  if (state && std::abs(*state) <= options_.heading.max_abs_heading_deg) result.heading_deg = state;
+}
+
+PerceptionResult Perceiver::Process(const PixelView& frame, std::optional<double> travelled_m, double dt_s,
+                                    std::optional<double> turned_deg) {
   Glance glance;
   MakeGlance(frame, options_.sampling, glance);
   const DistanceOptions& d = options_.distance;
   constexpr int kTtc = static_cast<int>(DistanceCue::kTimeToContact);
   if (d.ttc_area_glance && options_.sampling != GlanceSampling::kArea && d.enabled[kTtc] && d.weights[kTtc] > 0.0) {
     MakeGlance(frame, GlanceSampling::kArea, area_glance_);
-    return ProcessImpl(glance, area_glance_, travelled_m, dt_s);
+    return ProcessImpl(glance, area_glance_, travelled_m, dt_s, turned_deg);
   }
-  return ProcessImpl(glance, glance, travelled_m, dt_s);
+  return ProcessImpl(glance, glance, travelled_m, dt_s, turned_deg);
 }
 
-PerceptionResult Perceiver::ProcessGlance(const Glance& glance, std::optional<double> travelled_m, double dt_s) {
-  return ProcessImpl(glance, glance, travelled_m, dt_s);
+PerceptionResult Perceiver::ProcessGlance(const Glance& glance, std::optional<double> travelled_m, double dt_s,
+                                          std::optional<double> turned_deg) {
+  return ProcessImpl(glance, glance, travelled_m, dt_s, turned_deg);
 }
 
 void Perceiver::PushHistory(const Glance& g) {
@@ -186,7 +222,8 @@ void Perceiver::PushHistory(const Glance& g) {
 }
 
 PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_glance,
-                                        std::optional<double> travelled_m, double dt_s) {
+                                        std::optional<double> travelled_m, double dt_s,
+                                        std::optional<double> turned_deg) {
   PerceptionResult result;
   for (int i = 0; i < kHeadingCueCount; ++i) result.heading[i].cue = static_cast<HeadingCue>(i);
   for (int i = 0; i < kDistanceCueCount; ++i) result.distance[i].cue = static_cast<DistanceCue>(i);
@@ -205,6 +242,8 @@ PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_
   if (!travelled && options_.distance.speed_mps > 0.0 && dt_s > 0.0) travelled = options_.distance.speed_mps * dt_s;
   if (travelled && *travelled < kMinDrivingTravelM) ResetDistanceHistory();
   if (travelled) travel_m_ += std::max(0.0, *travelled);
+  // The heading filter follows the odometry on every frame, processed or skipped.
+  if (had_previous) PredictHeading(travelled_m, turned_deg);
   if (!process) {
     PushHistory(ttc_glance);
     // Skipped frames still become the previous frame of the next one, so consecutive-frame
@@ -240,6 +279,7 @@ PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_
   }
   PushHistory(ttc_glance);
   Fuse(result);
+  FilterHeading(result);
   current_ = next;
   has_previous_ = true;
   return result;

@@ -237,7 +237,9 @@ CorridorRun RunCorridorSequence(const io::Sequence& sequence, const CorridorRunO
                            std::abs(RadToDeg(WrapPi(motion->yaw))) < options.max_turn_deg;
       }
     }
-    const corridor::PerceptionResult r = all.Process(view, f.travelled_m, dt_s);
+    std::optional<double> turned_deg;
+    if (motion) turned_deg = RadToDeg(WrapPi(motion->yaw));
+    const corridor::PerceptionResult r = all.Process(view, f.travelled_m, dt_s, turned_deg);
     for (int c = 0; c < kHeadingCueCount; ++c) {
       const corridor::HeadingMeasureResult& h = r.heading[c];
       if (h.column_px) f.heading_camera_deg[c] = all.ColumnToHeadingDeg(*h.column_px);
@@ -260,6 +262,7 @@ CorridorRun RunCorridorSequence(const io::Sequence& sequence, const CorridorRunO
     }
     if (sw > 0.0) f.instant_dist_m = swd / sw;
     f.fused_heading_deg = r.heading_deg;
+    f.fused_instant_heading_deg = r.heading_instant_deg;
     f.fused_dist_m = r.dist_end_m;
 
     // Kalman filter over the cues, odometry as the process model.
@@ -282,7 +285,7 @@ CorridorRun RunCorridorSequence(const io::Sequence& sequence, const CorridorRunO
     f.kalman_dist_m = kalman.DistanceM();
 
     if (with_gate) {
-      const corridor::PerceptionResult g = with_gate->Process(view, f.travelled_m, dt_s);
+      const corridor::PerceptionResult g = with_gate->Process(view, f.travelled_m, dt_s, turned_deg);
       f.gated_processed = g.processed;
       f.gate_change = g.gate_change;
       if (g.processed) f.gated_heading_deg = g.heading_deg;
@@ -379,11 +382,13 @@ CorridorCalibrationFile FitCorridorCalibration(const std::vector<CorridorRun>& r
       corridor::HeadingCueOptions& o = out.options.heading.cues[c];
       o.scale = fit.scale;
       o.bias_deg = fit.bias_deg;
+      o.std_deg = h.error_std_deg;
       // A cue the base options switch off (weight 0) stays off: it is fitted for the record only.
       if (o.enabled && o.weight > 0.0 && options.heading_weights_from_variance)
         o.weight = 1.0 / (h.error_std_deg * h.error_std_deg);
     }
   }
+  if (options.fit_heading && options.heading_filter) out.options.heading.filter.enabled = true;
   if (options.fit_distance) {
     for (int c = 0; c < kDistanceCueCount; ++c) {
       std::vector<corridor::DistanceSample> s;
@@ -547,6 +552,7 @@ std::string WriteCorridorReport(const std::vector<CorridorRun>& runs, const fs::
   for (int c = 0; c < kHeadingCueCount; ++c)
     heading_est.push_back({HName(c), [c](const CorridorFrame& f) { return f.heading_deg[c]; }});
   heading_est.push_back({"fused", [](const CorridorFrame& f) { return f.fused_heading_deg; }});
+  heading_est.push_back({"fused_instant", [](const CorridorFrame& f) { return f.fused_instant_heading_deg; }});
   heading_est.push_back({"kalman", [](const CorridorFrame& f) { return f.kalman_heading_deg; }});
   for (int c = 0; c < kDistanceCueCount; ++c)
     dist_est.push_back({DName(c), [c](const CorridorFrame& f) { return f.dist_m[c]; }});

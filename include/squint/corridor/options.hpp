@@ -17,6 +17,28 @@ struct HeadingCueOptions {
   double weight = 1.0;
   double scale = 1.0;
   double bias_deg = 0.0;
+  // Standard deviation of the cue's calibrated error (degrees): its measurement noise in the
+  // heading filter (HeadingFilterOptions). `squint calibrate` writes the fitted σ.
+  double std_deg = 8.0;
+};
+
+// A filter over time for the fused heading (the Kalman filter, heading half): the state
+// is rotated by the odometry's turn between frames (process noise process_std_deg +
+// odom_noise_fraction · |turn| per frame, no_odom_std_deg per frame without a turn reading)
+// and updated on every processed frame by each cue's calibrated estimate with the cue's std_deg.
+// An estimate more than sqrt(gate_chi2) σ from the prediction is rejected; after
+// reinit_after_rejections consecutive rejections the state restarts from the next estimate.
+// Off by default (the heading is the per-frame fusion below); `squint calibrate` turns it on
+// in the file it writes (docs/calibration.md compares both).
+struct HeadingFilterOptions {
+  bool enabled = false;
+  double process_std_deg = 0.3;
+  double odom_noise_fraction = 0.05;
+  double no_odom_std_deg = 3.0;
+  double gate_chi2 = 9.0;
+  int reinit_after_rejections = 20;
+
+  std::string Validate() const;
 };
 
 struct HeadingOptions {
@@ -109,6 +131,8 @@ struct HeadingOptions {
   int min_consensus_cues = 2;
   // Used only when the camera has no intrinsics: heading = deg_per_column * (u - centre).
   double fallback_deg_per_column = 1.75;
+  // The filter over time (off by default).
+  HeadingFilterOptions filter;
 
   std::string Validate() const;
 };

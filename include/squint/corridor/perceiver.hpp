@@ -11,6 +11,7 @@
 #include "squint/corridor/distance_measures.hpp"
 #include "squint/corridor/glance.hpp"
 #include "squint/corridor/heading_measures.hpp"
+#include "squint/corridor/kalman.hpp"
 #include "squint/corridor/measure.hpp"
 #include "squint/corridor/options.hpp"
 #include "squint/corridor/prepared_glance.hpp"
@@ -23,8 +24,12 @@ struct PerceptionResult {
   bool processed = false;
   // |H(t) − H(t−1)| / H(reference) (§5.3); none on the first frame after a reset.
   std::optional<double> gate_change;
-  // Fused estimates (none when no cue answered).
+  // Fused estimates (none when no cue answered). With HeadingOptions::filter enabled,
+  // heading_deg is the heading filter's state after this frame's cues (none while the state is
+  // beyond max_abs_heading_deg), and heading_instant_deg the per-frame fusion; without the
+  // filter both are the per-frame fusion.
   std::optional<double> heading_deg;
+  std::optional<double> heading_instant_deg;
   std::optional<double> dist_end_m;
   // Per cue, indexed by HeadingCue / DistanceCue.
   std::array<HeadingMeasureResult, kHeadingCueCount> heading{};
@@ -72,13 +77,19 @@ class Perceiver {
 
   // Processes the next frame (grey or colour). `travelled_m`: distance driven since the previous
   // frame (odometry); when none, options.distance.speed_mps × dt_s is used for time to contact.
-  // dt_s is the time since the previous frame (≥ 0). Every value is finite or absent.
-  PerceptionResult Process(const PixelView& frame, std::optional<double> travelled_m, double dt_s);
-  PerceptionResult Process(const GrayView& frame, std::optional<double> travelled_m, double dt_s) {
-    return Process(PixelView::FromGray(frame), travelled_m, dt_s);
+  // dt_s is the time since the previous frame (≥ 0). `turned_deg`: the odometry's rotation since
+  // the previous frame (left positive), the heading filter's process model (unused without
+  // the filter; without it the filter only widens its uncertainty). Every value is finite or
+  // absent.
+  PerceptionResult Process(const PixelView& frame, std::optional<double> travelled_m, double dt_s,
+                           std::optional<double> turned_deg = std::nullopt);
+  PerceptionResult Process(const GrayView& frame, std::optional<double> travelled_m, double dt_s,
+                           std::optional<double> turned_deg = std::nullopt) {
+    return Process(PixelView::FromGray(frame), travelled_m, dt_s, turned_deg);
   }
   // Same, for a ready 32×24 glance (skips sampling).
-  PerceptionResult ProcessGlance(const Glance& glance, std::optional<double> travelled_m, double dt_s);
+  PerceptionResult ProcessGlance(const Glance& glance, std::optional<double> travelled_m, double dt_s,
+                                 std::optional<double> turned_deg = std::nullopt);
 
   // Forgets the previous frame and the gate reference (a new sequence).
   void Reset();
@@ -94,7 +105,11 @@ class Perceiver {
   // ProcessGlance with `ttc_glance` (the glance time to contact compares: area-averaged for
   // Process() with DistanceOptions::ttc_area_glance, else `glance` itself).
   PerceptionResult ProcessImpl(const Glance& glance, const Glance& ttc_glance, std::optional<double> travelled_m,
-                               double dt_s);
+                               double dt_s, std::optional<double> turned_deg);
+  // The heading filter (HeadingOptions::filter): the prediction by the odometry's turn (every
+  // frame) and the update by the cues (processed frames).
+  void PredictHeading(std::optional<double> travelled_m, std::optional<double> turned_deg);
+  void FilterHeading(PerceptionResult& result);
   void Fuse(PerceptionResult& result) const;
   // Heading fusion by the sum of the cues' normalised curves (HeadingOptions::fuse_curves).
   void FuseHeadingCurves(PerceptionResult& result) const;
@@ -139,6 +154,7 @@ class Perceiver {
   std::optional<double> PushAndMedian(CueWindow& w, std::optional<double> input, bool travel_compensated) const;
   std::optional<double> last_ttc_input_m_;  // the last filtered time-to-contact input
   Glance area_glance_{};                    // Process()'s area-averaged glance for time to contact
+  CorridorKalman heading_filter_;           // heading half only (HeadingOptions::filter)
 };
 
 }  // namespace squint::corridor

@@ -92,14 +92,15 @@ struct CorridorFrame {
   std::array<std::optional<double>, corridor::kDistanceCueCount> dist_filtered_raw{};
   std::array<std::optional<double>, corridor::kDistanceCueCount> dist_filtered_m{};
   std::optional<double> instant_dist_m;  // weighted average of the unfiltered estimates
-  std::optional<double> fused_heading_deg;  // the Perceiver's weighted average
+  std::optional<double> fused_heading_deg;  // the Perceiver's heading (its filter when enabled)
+  std::optional<double> fused_instant_heading_deg;  // the Perceiver's per-frame fusion
   std::optional<double> fused_dist_m;  // the Perceiver's weighted average of the filtered cues
   std::optional<double> kalman_heading_deg;  // the Kalman filter over the cues, odometry as process
   std::optional<double> kalman_dist_m;
   // Pass with the rapid-perception gate:
   bool gated_processed = true;
   std::optional<double> gate_change;
-  std::optional<double> gated_heading_deg;  // fused heading on processed frames only
+  std::optional<double> gated_heading_deg;  // the Perceiver's heading on processed frames only
 };
 
 struct CorridorRun {
@@ -141,6 +142,9 @@ struct CalibrateOptions {
   // dev data, and on the orient-* test split 1/σ² weights gave 5.72° against 4.76° (the fitted
   // σ, 7–15° per cue, is dominated by each cue's gross outliers, which the consensus rejects).
   bool heading_weights_from_variance = false;
+  // Turn the Perceiver's heading filter on in the written options (HeadingFilterOptions), with
+  // each cue's fitted σ as its measurement noise (always written to the cues' std_deg).
+  bool heading_filter = true;
   std::string Validate() const;
 };
 
