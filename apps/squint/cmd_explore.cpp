@@ -5,8 +5,14 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
+#include <algorithm>
 #include <string>
 #include <vector>
+
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "command.hpp"
 #include "squint/core/angles.hpp"
@@ -14,6 +20,8 @@
 #include "squint/eval/explore_run.hpp"
 #include "squint/eval/plot.hpp"
 #include "squint/io/atomic_output.hpp"
+#include "squint/explore/visual_sonar.hpp"
+#include "squint/sim/renderer.hpp"
 #include "squint/sim/world.hpp"
 
 namespace squint::app {
@@ -111,6 +119,57 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
   std::cout << table << footer;
 }
 
+struct SonarViewOptions {
+  std::string world = "default";
+  std::string pose;  // X,Y,YAW_DEG
+  std::string png;   // optional: the sonar frame
+};
+
+// One sonar frame at a pose, as the explorer's runner renders it (64×48, cropped to 4 rows above
+// the horizon, 2×2 supersampling, sensor noise), and its columns: a diagnostic for the sonar.
+void RunSonarView(const SonarViewOptions& opt) {
+  const sim::World world = sim::LoadWorld(opt.world);
+  Pose2 pose = world.start;
+  if (!opt.pose.empty()) {
+    double x = 0.0, y = 0.0, yaw_deg = 0.0;
+    char c1 = 0, c2 = 0;
+    std::istringstream in(opt.pose);
+    if (!(in >> x >> c1 >> y >> c2 >> yaw_deg) || c1 != ',' || c2 != ',' || !std::isfinite(x) || !std::isfinite(y) ||
+        !std::isfinite(yaw_deg))
+      throw Error("eval sonar: --pose '" + opt.pose + "' must be X,Y,YAW_DEG");
+    pose = Pose2{x, y, DegToRad(yaw_deg)};
+  }
+  const eval::ExploreRunOptions run_opt;
+  CameraModel cam = world.camera.Model().Scaled(run_opt.sonar_width, run_opt.sonar_height);
+  const int crop_top = std::clamp(static_cast<int>(std::floor(cam.HorizonRow())) - 4, 0, cam.height / 2);
+  cam.height -= crop_top;
+  cam.cy -= crop_top;
+  sim::RenderOptions ro;
+  ro.supersample = run_opt.sonar_supersample;
+  ro.noise_sigma = run_opt.sensor_noise_sigma;
+  ro.seed = run_opt.seed + 1000003u;
+  sim::Renderer renderer(world, cam, ro);
+  cv::Mat image(cam.height, cam.width, CV_8UC1);
+  MutableGrayView view{image.data, image.cols, image.rows, static_cast<std::ptrdiff_t>(image.step)};
+  renderer.Render(pose, view, nullptr, 0, nullptr, 0, 0);
+  explore::VisualSonar sonar(cam, run_opt.sonar);
+  const auto& cols = sonar.Process(view);
+  static const char* kKinds[] = {"boundary", "blocked_near", "far", "unknown"};
+  std::cout << "column,bearing_deg,kind,range_m,boundary_row,floor_edge_m\n";
+  for (std::size_t u = 0; u < cols.size(); ++u) {
+    const explore::SonarColumn& c = cols[u];
+    std::cout << fmt::format("{},{:.1f},{},{:.2f},{},{:.2f}\n", u, RadToDeg(c.bearing_rad),
+                             kKinds[static_cast<int>(c.kind)], c.range_m, c.boundary_row, c.floor_edge_m);
+  }
+  if (!opt.png.empty()) {
+    cv::Mat big;
+    cv::resize(image, big, cv::Size(), 8, 8, cv::INTER_NEAREST);
+    std::vector<unsigned char> buf;
+    cv::imencode(".png", big, buf);
+    io::WriteFileAtomically(opt.png, std::string(buf.begin(), buf.end()));
+  }
+}
+
 void Register(CLI::App& root) {
   auto opt = std::make_shared<ExploreCliOptions>();
   CLI::App* cmd = root.add_subcommand(
@@ -132,6 +191,13 @@ void Register(CLI::App& root) {
   ex->add_option("--seed", eopt->seed, "Seed of the start poses and noise")->capture_default_str();
   ex->add_option("--out", eopt->out, "Output folder: table.md, runs.csv, map-WORLD.png")->capture_default_str();
   ex->callback([eopt] { RunEvalExplore(*eopt); });
+
+  auto sopt = std::make_shared<SonarViewOptions>();
+  CLI::App* sv = eval_cmd->add_subcommand("sonar", "One visual-sonar frame at a pose: its columns as CSV (a diagnostic)");
+  sv->add_option("--world", sopt->world, "Built-in world name or world YAML file")->capture_default_str();
+  sv->add_option("--pose", sopt->pose, "X,Y,YAW_DEG (default: the world's start)");
+  sv->add_option("--png", sopt->png, "Also write the sonar frame, magnified 8x");
+  sv->callback([sopt] { RunSonarView(*sopt); });
 }
 
 const CommandRegistrar kRegistrar(300, &Register);

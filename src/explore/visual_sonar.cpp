@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "squint/core/error.hpp"
 
@@ -19,6 +20,10 @@ std::string VisualSonarOptions::Validate() const {
   if (!(floor_memory >= 0.0 && floor_memory < 1.0)) return "floor_memory must be in [0, 1)";
   if (!(floor_sigma_factor >= 0.0) || !std::isfinite(floor_sigma_factor)) return "floor_sigma_factor must be >= 0";
   if (!(max_range_m > 0.0) || !std::isfinite(max_range_m)) return "max_range_m must be positive";
+  if (!(floor_edge_max_ratio >= 0.0) || !std::isfinite(floor_edge_max_ratio)) return "floor_edge_max_ratio must be >= 0";
+  if (floor_edge_max_ratio > 0.0 && !(floor_edge_min_ratio > 1.0 && floor_edge_min_ratio <= floor_edge_max_ratio))
+    return "floor_edge_min_ratio must be in (1, floor_edge_max_ratio]";
+  if (floor_edge_min_rows < 1 || floor_edge_min_rows > 16) return "floor_edge_min_rows must be in [1, 16]";
   if (min_reference_columns < 1 || min_reference_columns > 640) return "min_reference_columns must be in [1, 640]";
   return {};
 }
@@ -52,7 +57,51 @@ VisualSonar::VisualSonar(const CameraModel& camera, const VisualSonarOptions& op
   bottom_.assign(static_cast<std::size_t>(w), 0.0f);
   ref_window_.assign(static_cast<std::size_t>(w), 0.0f);
   unknown_.assign(static_cast<std::size_t>(w), 0);
+  edge_.assign(static_cast<std::size_t>(w), 0.0);
   reference_floor_rows_ = options_.min_floor_rows + 3;
+}
+
+int VisualSonar::FindStep(int base) const {
+  // Scans up from row `base` (the region's lowest row) for the lowest row that starts something
+  // else: see Process. Returns -1 when none below top_row_.
+  const int k = options_.step_window_rows;
+  const float thr = static_cast<float>(options_.step_threshold);
+  const float a = static_cast<float>(options_.floor_memory);
+  const float sig = static_cast<float>(options_.floor_sigma_factor);
+  float fmean = profile_[static_cast<std::size_t>(base)];
+  float fvar = 0.0f;
+  auto step_at = [&](int v) {
+    float below = 0.0f, above = 0.0f;
+    int nb = 0, na = 0;
+    for (int i = 1; i <= k && v + i <= base; ++i, ++nb) below += profile_[static_cast<std::size_t>(v + i)];
+    for (int i = 0; i < k && v - i >= 0; ++i, ++na) above += profile_[static_cast<std::size_t>(v - i)];
+    below /= static_cast<float>(nb);
+    above /= static_cast<float>(na);
+    return std::pair<float, float>(below, above);
+  };
+  for (int v = base - 1; v >= top_row_; --v) {
+    const auto [below, above] = step_at(v);
+    const float t = std::max(thr, sig * std::sqrt(fvar));
+    if (std::abs(below - above) > thr && std::abs(above - fmean) > t) {
+      // The windows straddle a sharp edge first with one row of floor in the upper window:
+      // refine to the strongest step within the next k - 1 rows up.
+      int found = v;
+      float best = std::abs(below - above);
+      for (int j = v - 1; j > v - k && j >= top_row_; --j) {
+        const auto [b2, a2] = step_at(j);
+        if (std::abs(b2 - a2) > best) {
+          best = std::abs(b2 - a2);
+          found = j;
+        }
+      }
+      return found;
+    }
+    const float x = profile_[static_cast<std::size_t>(v)];
+    const float d = x - fmean;
+    fmean += (1.0f - a) * d;
+    fvar = a * (fvar + (1.0f - a) * d * d);
+  }
+  return -1;
 }
 
 const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
@@ -60,13 +109,12 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
   const int h = camera_.height;
   SQUINT_ENSURE(!image.Empty() && image.width == w && image.height == h,
                 "visual sonar: the frame must be " + std::to_string(w) + "x" + std::to_string(h));
-  const int k = options_.step_window_rows;
   const float thr = static_cast<float>(options_.step_threshold);
   for (int u = 0; u < w; ++u) {
     const int u0 = std::max(0, u - options_.column_half_width);
     const int u1 = std::min(w - 1, u + options_.column_half_width);
     const float norm = 1.0f / static_cast<float>(u1 - u0 + 1);
-    for (int v = top_row_ - k < 0 ? 0 : top_row_ - k; v < h; ++v) {
+    for (int v = std::max(0, top_row_ - options_.step_window_rows); v < h; ++v) {
       const std::uint8_t* row = image.Row(v);
       int s = 0;
       for (int x = u0; x <= u1; ++x) s += row[x];
@@ -77,44 +125,28 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
     // the lowest non-floor row when the mean of the k rows from v upward differs from both the
     // k rows just below it and the running floor mean by more than the threshold, raised by
     // the floor's own texture spread (busy tiles).
-    int found = -1;
-    float fmean = profile_[static_cast<std::size_t>(h - 1)];
-    float fvar = 0.0f;
-    const float a = static_cast<float>(options_.floor_memory);
-    const float sig = static_cast<float>(options_.floor_sigma_factor);
-    for (int v = h - 2; v >= top_row_; --v) {
-      float below = 0.0f, above = 0.0f;
-      int nb = 0, na = 0;
-      for (int i = 1; i <= k && v + i < h; ++i, ++nb) below += profile_[static_cast<std::size_t>(v + i)];
-      for (int i = 0; i < k && v - i >= 0; ++i, ++na) above += profile_[static_cast<std::size_t>(v - i)];
-      below /= static_cast<float>(nb);
-      above /= static_cast<float>(na);
-      const float t = std::max(thr, sig * std::sqrt(fvar));
-      if (std::abs(below - above) > thr && std::abs(above - fmean) > t) {
-        // The windows straddle a sharp edge first with one row of floor in the upper window:
-        // refine to the strongest step within the next k - 1 rows up.
-        found = v;
-        float best = std::abs(below - above);
-        for (int j = v - 1; j > v - k && j >= top_row_; --j) {
-          float b2 = 0.0f, a2 = 0.0f;
-          int nb2 = 0, na2 = 0;
-          for (int i = 1; i <= k && j + i < h; ++i, ++nb2) b2 += profile_[static_cast<std::size_t>(j + i)];
-          for (int i = 0; i < k && j - i >= 0; ++i, ++na2) a2 += profile_[static_cast<std::size_t>(j - i)];
-          const float step = std::abs(b2 / static_cast<float>(nb2) - a2 / static_cast<float>(na2));
-          if (step > best) {
-            best = step;
-            found = j;
-          }
+    int found = FindStep(h - 1);
+    // Too few floor rows below the step: no step.
+    if (found >= 0 && h - 1 - found < options_.min_floor_rows) found = -1;
+    // What lies above the step: a wall (or anything standing) rises from its base through the
+    // horizon; a floor-material edge (tiles to carpet) is followed by more floor up to the next
+    // boundary below the horizon. A second step, scanned up from the first with the region's own
+    // running mean, at a floor range between floor_edge_min_ratio and floor_edge_max_ratio times
+    // the first, makes the first a floor edge: the column then reads the second.
+    edge_[static_cast<std::size_t>(u)] = 0.0;
+    if (found >= 0 && options_.floor_edge_max_ratio > 0.0) {
+      const int second = FindStep(found);
+      if (second >= 0 && found - second >= options_.floor_edge_min_rows) {
+        const double r1 = range_[static_cast<std::size_t>(found * w + u)];
+        const double r2 = range_[static_cast<std::size_t>(second * w + u)];
+        if (std::isfinite(r1) && std::isfinite(r2) && r1 < options_.max_range_m && r2 < options_.max_range_m &&
+            r2 >= options_.floor_edge_min_ratio * r1 && r2 <= options_.floor_edge_max_ratio * r1) {
+          edge_[static_cast<std::size_t>(u)] = r1;
+          found = second;
         }
-        break;
       }
-      const float x = profile_[static_cast<std::size_t>(v)];
-      const float d = x - fmean;
-      fmean += (1.0f - a) * d;
-      fvar = a * (fvar + (1.0f - a) * d * d);
     }
     // Raw range: 0 for a column blocked near, max_range_m for far.
-    if (found >= 0 && h - 1 - found < options_.min_floor_rows) found = -1;  // too few floor rows: no step
     double r = 0.0;
     if (found >= 0) {
       r = range_[static_cast<std::size_t>(found * w + u)];
@@ -166,13 +198,17 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
     c.bearing_rad = bearing_[static_cast<std::size_t>(u)];
     c.range_m = r;
     c.boundary_row = -1;
+    c.floor_edge_m = 0.0;
     if (r <= 0.0) {
       c.kind = SonarReturn::kBlockedNear;
     } else if (r >= options_.max_range_m) {
       c.kind = unknown_[static_cast<std::size_t>(u)] ? SonarReturn::kUnknown : SonarReturn::kFar;
     } else {
       c.kind = SonarReturn::kBoundary;
-      if (raw_[static_cast<std::size_t>(u)] == r) c.boundary_row = rows_[static_cast<std::size_t>(u)];
+      if (raw_[static_cast<std::size_t>(u)] == r) {
+        c.boundary_row = rows_[static_cast<std::size_t>(u)];
+        c.floor_edge_m = edge_[static_cast<std::size_t>(u)];
+      }
     }
   }
   return out_;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -96,6 +97,89 @@ TEST(VisualSonar, WallAtKnownDistanceReadsThatDistanceAhead) {
     // Along x (forward) the wall is at 2.0 m; one row of quantisation at 2 m is about 0.1 m.
     EXPECT_NEAR(c.range_m * std::cos(c.bearing_rad), 2.0, 0.12) << "column " << u;
   }
+}
+
+// A view straight ahead made of horizontal bands: for each column, the lowest row of each band
+// is where a robot-frame point (x ahead at that column's bearing, height z) projects. Bands are
+// given bottom-up as (x_m, z_m, grey); below the first band the floor is bright tiles.
+Image Bands(const CameraModel& cam, const std::vector<std::array<double, 3>>& bands) {
+  Image im;
+  for (int u = 0; u < im.w; ++u) {
+    const double t = std::tan(cam.BearingOfColumn(u));
+    std::vector<int> starts;
+    for (const auto& b : bands) {
+      const auto px = cam.Project({b[0], b[0] * t, b[1]});
+      starts.push_back(px ? static_cast<int>(std::floor(px->y())) : -1);
+    }
+    for (int v = 0; v < im.h; ++v) {
+      int grey = 180 + ((u + v) % 3);  // tiles
+      for (std::size_t i = 0; i < bands.size(); ++i)
+        if (v <= starts[i]) grey = static_cast<int>(bands[i][2]);
+      im.At(u, v) = static_cast<std::uint8_t>(grey);
+    }
+  }
+  return im;
+}
+
+TEST(VisualSonar, CarpetEdgeAtKnownRangeIsFloorAndTheWallBeyondIsTheBoundary) {
+  const CameraModel cam = SonarCamera();
+  VisualSonar sonar(cam);
+  // Tiles to 2.0 m, dark carpet (on the floor, z = 0) from 2.0 m to a wall base at 3.5 m.
+  const Image im = Bands(cam, {{2.0, 0.0, 110.0}, {3.5, 0.0, 160.0}});
+  const auto& out = sonar.Process(im.View());
+  for (int u = 4; u < 60; ++u) {
+    const SonarColumn& c = out[static_cast<std::size_t>(u)];
+    ASSERT_EQ(c.kind, SonarReturn::kBoundary) << "column " << u;
+    // One row at 3.5 m is about 0.35 m of range; the carpet edge is not what the column reads.
+    EXPECT_NEAR(c.range_m * std::cos(c.bearing_rad), 3.5, 0.3) << "column " << u;
+    if (c.boundary_row >= 0) EXPECT_NEAR(c.floor_edge_m * std::cos(c.bearing_rad), 2.0, 0.12) << "column " << u;
+  }
+  // Turned off, the carpet edge is read as something standing at 2.0 m.
+  VisualSonarOptions off;
+  off.floor_edge_max_ratio = 0.0;
+  VisualSonar plain(cam, off);
+  const auto& out2 = plain.Process(im.View());
+  for (int u = 4; u < 60; ++u) EXPECT_NEAR(out2[static_cast<std::size_t>(u)].range_m * std::cos(out2[static_cast<std::size_t>(u)].bearing_rad), 2.0, 0.12);
+}
+
+TEST(VisualSonar, WallBaseAndLowObstacleAtKnownRangeStayStanding) {
+  const CameraModel cam = SonarCamera();
+  VisualSonar sonar(cam);
+  // (a) A wall at 2.0 m rising through the horizon, with a grey band from 0.02 to 0.10 m (a
+  // skirting board: its top edge lies at 1.2 × the base range as floor) and a dark dado band from
+  // 0.45 m up (above the camera: 0.6 m, at 4 × the base range as floor).
+  // (b) A bin 0.45 m high at 1.6 m, in front of a far wall at 5.5 m.
+  struct Case {
+    const char* name;
+    std::vector<std::array<double, 3>> bands;
+    double range_m;
+  };
+  const std::vector<Case> cases = {
+      {"skirted wall", {{2.0, 0.0, 90.0}, {2.0, 0.10, 130.0}, {2.0, 0.45, 60.0}}, 2.0},
+      {"plain wall", {{2.0, 0.0, 120.0}}, 2.0},
+      {"bin before a far wall", {{1.6, 0.0, 90.0}, {1.6, 0.45, 180.0}, {5.5, 0.0, 120.0}}, 1.6},
+  };
+  for (const Case& k : cases) {
+    const auto& out = sonar.Process(Bands(cam, k.bands).View());
+    for (int u = 4; u < 60; ++u) {
+      const SonarColumn& c = out[static_cast<std::size_t>(u)];
+      ASSERT_EQ(c.kind, SonarReturn::kBoundary) << k.name << ", column " << u;
+      EXPECT_NEAR(c.range_m * std::cos(c.bearing_rad), k.range_m, 0.12) << k.name << ", column " << u;
+      EXPECT_EQ(c.floor_edge_m, 0.0) << k.name << ", column " << u;
+    }
+  }
+}
+
+TEST(VisualSonar, FloorEdgeOptionsAreValidated) {
+  VisualSonarOptions o;
+  o.floor_edge_min_ratio = 1.0;
+  EXPECT_FALSE(o.Validate().empty());
+  o.floor_edge_min_ratio = 3.0;  // above the maximum
+  EXPECT_FALSE(o.Validate().empty());
+  o.floor_edge_max_ratio = 0.0;  // off: the minimum does not matter
+  EXPECT_TRUE(o.Validate().empty());
+  o.floor_edge_min_rows = 0;
+  EXPECT_FALSE(o.Validate().empty());
 }
 
 TEST(VisualSonar, UniformViewIsBlockedNearAndFloorToTheHorizonIsFar) {

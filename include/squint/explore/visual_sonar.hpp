@@ -25,6 +25,17 @@ struct VisualSonarOptions {
   // Columns without a step are told apart (blocked near / unknown) by the floor of the columns
   // with a step; fewer such columns than this: no reference (blocked near).
   int min_reference_columns = 8;
+  // Floor-material edges (tiles to carpet) are not walls. Above a wall's base a vertical face
+  // rises through the horizon; above a floor edge lies more floor, up to the next boundary. A
+  // step followed, at least floor_edge_min_rows higher, by a second step below the horizon whose
+  // floor range is within [min_ratio, max_ratio] × the first's is read as a floor edge (the column
+  // then reports the second step). Anything standing of height H puts its top edge at
+  // hc / (hc - H) × its base range (hc: camera height), so objects taller than
+  // hc × (1 - 1 / max_ratio) (0.36 m at hc = 0.6 m with 2.5) and horizontal lines on a wall below
+  // hc × (1 - 1 / min_ratio) (0.12 m with 1.25) are never taken for floor edges. 0 turns it off.
+  double floor_edge_min_ratio = 1.25;
+  double floor_edge_max_ratio = 2.5;
+  int floor_edge_min_rows = 2;
   std::string Validate() const;  // empty when valid
 };
 
@@ -43,6 +54,7 @@ struct SonarColumn {
   double range_m = 0.0;      // from the robot's rotation centre (the camera foot) on the floor
   SonarReturn kind = SonarReturn::kFar;
   int boundary_row = -1;     // the lowest non-floor row when this column's own step gave the range, else -1
+  double floor_edge_m = 0.0; // > 0: the range of a floor-material edge this column's floor crossed (same conditions)
 };
 
 class VisualSonar {
@@ -63,6 +75,10 @@ class VisualSonar {
   double RangeAt(int u, int v) const { return range_[static_cast<std::size_t>(v * camera_.width + u)]; }
 
  private:
+  // The lowest row above `base` where something other than the region starting at `base` begins
+  // (the step test of Process), or -1 when none below top_row_.
+  int FindStep(int base) const;
+
   CameraModel camera_;
   VisualSonarOptions options_;
   int top_row_ = 0;  // highest row searched (one above the horizon)
@@ -77,6 +93,7 @@ class VisualSonar {
   std::vector<float> bottom_;      // per column: mean of the bottom rows
   std::vector<float> ref_window_;
   std::vector<std::uint8_t> unknown_;
+  std::vector<double> edge_;       // per column: floor-edge range crossed (0: none)
   int reference_floor_rows_ = 5;
 };
 
