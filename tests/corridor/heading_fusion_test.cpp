@@ -1,12 +1,15 @@
 // Heading fusion in the Perceiver: the sum of the cues' normalised curves (default) follows each
-// cue's calibration (scale, bias) when it resamples the curve onto the fused heading grid, and
-// the paper-style consensus of the cues' own estimates stays available.
+// cue's calibration (scale, bias) when it resamples the curve onto the fused heading grid, the
+// paper-style consensus of the cues' own estimates stays available, and the heading filter over
+// time (HeadingOptions::filter) weighs the cues by their σ, follows the odometry's turn over
+// skipped frames, rejects outliers and restarts after repeated rejections.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
 #include "squint/core/angles.hpp"
+#include "squint/core/error.hpp"
 #include "corridor_camera.hpp"
 #include "squint/corridor/perceiver.hpp"
 
@@ -80,6 +83,131 @@ TEST(HeadingFusion, NoUsableCurveGivesNoHeading) {
   const PerceptionResult r = perceiver.Process(GrayView{img.data(), 160, 120, 160}, std::nullopt, 0.1);
   EXPECT_FALSE(r.heading_deg.has_value());
   for (const HeadingMeasureResult& h : r.heading) EXPECT_FALSE(h.fused);
+}
+
+GrayView View(const std::vector<std::uint8_t>& img) { return GrayView{img.data(), 160, 120, 160}; }
+
+constexpr int kSym = static_cast<int>(HeadingCue::kSymmetry);
+constexpr int kPhase = static_cast<int>(HeadingCue::kPhase);
+
+TEST(HeadingFilter, OffByDefaultTheHeadingIsThePerFrameFusion) {
+  ASSERT_FALSE(CorridorOptions{}.heading.filter.enabled);
+  Perceiver perceiver(TwoCues(), Camera160());
+  const auto img = RadialFrame(102.0, 59.5);
+  for (int i = 0; i < 3; ++i) {
+    const PerceptionResult r = perceiver.Process(View(img), std::nullopt, 0.1, 5.0);  // a turn changes nothing
+    ASSERT_TRUE(r.heading_deg && r.heading_instant_deg);
+    EXPECT_EQ(*r.heading_deg, *r.heading_instant_deg);
+  }
+}
+
+TEST(HeadingFilter, WeighsTheCuesByTheirSigmaOverFrames) {
+  // No process noise and no outlier gate: the filter is recursive least squares, so after n
+  // identical frames its state is the 1/σ²-weighted mean of the two cues' estimates.
+  CorridorOptions options = TwoCues();
+  options.heading.cues[kSym].bias_deg = 3.0;  // the two cues now disagree by about 4 deg
+  options.heading.cues[kPhase].bias_deg = -1.0;
+  options.heading.cues[kSym].std_deg = 4.0;
+  options.heading.cues[kPhase].std_deg = 2.0;
+  options.heading.filter.enabled = true;
+  options.heading.filter.process_std_deg = 0.0;
+  options.heading.filter.odom_noise_fraction = 0.0;
+  options.heading.filter.gate_chi2 = 1e9;
+  Perceiver perceiver(options, Camera160());
+  const auto img = RadialFrame(102.0, 59.5);
+  for (int i = 0; i < 4; ++i) {
+    const PerceptionResult r = perceiver.Process(View(img), std::nullopt, 0.1, 0.0);
+    ASSERT_TRUE(r.heading[kSym].heading_deg && r.heading[kPhase].heading_deg && r.heading_deg);
+    const double zs = *r.heading[kSym].heading_deg, zp = *r.heading[kPhase].heading_deg;
+    ASSERT_GT(zs - zp, 2.0);
+    EXPECT_NEAR(*r.heading_deg, (zs / 16.0 + zp / 4.0) / (1.0 / 16.0 + 1.0 / 4.0), 1e-9) << i;
+    EXPECT_NE(*r.heading_deg, *r.heading_instant_deg);
+  }
+}
+
+CorridorOptions PhaseOnlyFiltered() {
+  CorridorOptions options = TwoCues();
+  options.heading.cues[kSym].weight = 0.0;
+  options.heading.cues[kPhase].std_deg = 8.0;
+  options.heading.filter.enabled = true;
+  return options;
+}
+
+TEST(HeadingFilter, SkippedFramesCarryTheOdometryTurnToTheNextProcessedFrame) {
+  CorridorOptions options = PhaseOnlyFiltered();
+  options.gate.enabled = true;  // identical frames: skipped until the forced one
+  options.gate.threshold = 0.5;
+  options.gate.max_skipped_frames = 5;
+  Perceiver perceiver(options, Camera160());
+  const auto img = RadialFrame(102.0, 59.5);
+  const PerceptionResult first = perceiver.Process(View(img), std::nullopt, 0.1);
+  ASSERT_TRUE(first.processed && first.heading_deg);
+  const double z = *first.heading_deg;  // the first measurement initialises the state
+  EXPECT_EQ(z, *first.heading[kPhase].heading_deg);
+  for (int i = 0; i < 5; ++i) {
+    const PerceptionResult r = perceiver.Process(View(img), 0.0, 0.1, 2.0);  // turning left 2 deg a frame
+    EXPECT_FALSE(r.processed);
+    EXPECT_FALSE(r.heading_deg);
+  }
+  const PerceptionResult r = perceiver.Process(View(img), 0.0, 0.1, 0.0);
+  ASSERT_TRUE(r.processed && r.heading_deg);
+  ASSERT_NEAR(*r.heading_instant_deg, z, 1e-12);  // the same frame reads the same
+  // Predicted z + 10 with variance 64 + 5·(0.3 + 0.05·2)² + 0.3², then the update by z (σ 8).
+  const double p = 64.0 + 5.0 * 0.4 * 0.4 + 0.09;
+  const double k = p / (p + 64.0);
+  EXPECT_NEAR(*r.heading_deg, z + 10.0 * (1.0 - k), 1e-9);
+}
+
+TEST(HeadingFilter, RejectsAnOutlierAndRestartsAfterRepeatedRejections) {
+  CorridorOptions options = PhaseOnlyFiltered();
+  options.heading.cues[kPhase].std_deg = 2.0;
+  options.heading.filter.reinit_after_rejections = 3;
+  Perceiver perceiver(options, Camera160());
+  const auto a = RadialFrame(102.0, 59.5);  // right of centre: a positive heading
+  const auto b = RadialFrame(50.0, 59.5);   // left of centre: a negative one
+  double state = 0.0;
+  for (int i = 0; i < 10; ++i) state = perceiver.Process(View(a), std::nullopt, 0.1, 0.0).heading_deg.value();
+  const double za = perceiver.Process(View(a), std::nullopt, 0.1, 0.0).heading_instant_deg.value();
+  EXPECT_NEAR(state, za, 1e-6);
+  ASSERT_GT(za, 5.0);
+  for (int i = 0; i < 3; ++i) {  // far outside 3σ of the prediction: rejected, the state holds
+    const PerceptionResult r = perceiver.Process(View(b), std::nullopt, 0.1, 0.0);
+    ASSERT_LT(*r.heading_instant_deg, -5.0);
+    EXPECT_NEAR(*r.heading_deg, za, 1e-6) << i;
+  }
+  // The fourth one in a row restarts the state from it (a new corridor).
+  const PerceptionResult r = perceiver.Process(View(b), std::nullopt, 0.1, 0.0);
+  EXPECT_EQ(*r.heading_deg, *r.heading_instant_deg);
+  // Reset() forgets the state: the next frame starts it afresh.
+  perceiver.Reset();
+  const PerceptionResult after = perceiver.Process(View(a), std::nullopt, 0.1, 0.0);
+  EXPECT_EQ(*after.heading_deg, *after.heading_instant_deg);
+}
+
+TEST(HeadingFilter, AStateTurnedOutOfRangeGivesNoHeading) {
+  CorridorOptions options = PhaseOnlyFiltered();
+  options.heading.cues[kPhase].std_deg = 0.5;
+  Perceiver perceiver(options, Camera160());
+  const auto a = RadialFrame(102.0, 59.5);
+  for (int i = 0; i < 5; ++i) ASSERT_TRUE(perceiver.Process(View(a), std::nullopt, 0.1, 0.0).heading_deg);
+  // Turned 60 deg left: the prediction (about 67 deg) lies beyond max_abs_heading_deg (40) and
+  // the frame's own estimate is rejected as an outlier.
+  const PerceptionResult r = perceiver.Process(View(a), std::nullopt, 0.1, 60.0);
+  EXPECT_TRUE(r.heading_instant_deg);
+  EXPECT_FALSE(r.heading_deg);
+}
+
+TEST(HeadingFilter, InvalidFilterOptionsAreRefused) {
+  CorridorOptions options = PhaseOnlyFiltered();
+  options.heading.cues[kPhase].std_deg = 0.0;
+  EXPECT_NE(options.Validate().find("heading.cues.phase.std_deg must be > 0"), std::string::npos);
+  EXPECT_THROW(Perceiver(options, Camera160()), Error);
+  options = PhaseOnlyFiltered();
+  options.heading.filter.gate_chi2 = -1.0;
+  EXPECT_NE(options.Validate().find("heading.filter.gate_chi2 must be > 0"), std::string::npos);
+  options = PhaseOnlyFiltered();
+  options.heading.filter.reinit_after_rejections = 0;
+  EXPECT_NE(options.Validate().find("heading.filter.reinit_after_rejections"), std::string::npos);
 }
 
 }  // namespace
