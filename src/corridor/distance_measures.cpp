@@ -228,10 +228,121 @@ double Ncc(const NccSums& s, const ScaleWindow& w) {
   return cxy / std::sqrt(cxx * cyy);
 }
 
+// Gauss–Newton sums at one scale: besides the NCC's Σx, Σx², Σxy also g = ∂x/∂σ, the exact
+// derivative of the bilinear interpolant (from the same four corners), and Σg, Σg², Σxg, Σgy.
+struct GnSums {
+  double sx = 0.0, sxx = 0.0, sxy = 0.0, sg = 0.0, sgg = 0.0, sxg = 0.0, sgy = 0.0;
+};
+
+GnSums SumScaleGn(const Glance& earlier, const Glance& current, const ScaleWindow& w, double cx, double cy,
+                  double scale) {
+  const float inv = static_cast<float>(1.0 / scale);
+  const float dinv = static_cast<float>(-1.0 / (scale * scale));  // d(1/σ)/dσ
+  const float fcx = static_cast<float>(cx), fcy = static_cast<float>(cy);
+  std::array<int, kW> col{};
+  std::array<float, kW> frac{};
+  std::array<float, kW> dcol{};  // ∂(source column)/∂σ; 0 where clamped
+  for (int u = w.u0; u <= w.u1; u += w.step) {
+    const float raw = fcx + (static_cast<float>(u) - fcx) * inv;
+    const float sx = std::clamp(raw, 0.0f, kW - 1.001f);
+    col[u] = static_cast<int>(sx);
+    frac[u] = sx - static_cast<float>(col[u]);
+    dcol[u] = sx == raw ? (static_cast<float>(u) - fcx) * dinv : 0.0f;
+  }
+  GnSums s;
+  for (int v = w.v0; v <= w.v1; v += w.step) {
+    const float raw = fcy + (static_cast<float>(v) - fcy) * inv;
+    const float sy = std::clamp(raw, 0.0f, kH - 1.001f);
+    const float drow = sy == raw ? (static_cast<float>(v) - fcy) * dinv : 0.0f;
+    const int y0 = static_cast<int>(sy);
+    const float fy = sy - static_cast<float>(y0);
+    const std::uint8_t* r0 = earlier.pixels.data() + y0 * kW;
+    const std::uint8_t* r1 = r0 + kW;
+    const std::uint8_t* cur = current.pixels.data() + v * kW;
+    float sx_ = 0.0f, sxx = 0.0f, sxy = 0.0f, sg = 0.0f, sgg = 0.0f, sxg = 0.0f, sgy = 0.0f;
+    for (int u = w.u0; u <= w.u1; u += w.step) {
+      const int x0 = col[u];
+      const float fx = frac[u];
+      const float a = r0[x0], b = r0[x0 + 1], c = r1[x0], d = r1[x0 + 1];
+      const float top = a + fx * (b - a);
+      const float bottom = c + fx * (d - c);
+      const float x = top + fy * (bottom - top);
+      const float gx = (b - a) + fy * ((d - c) - (b - a));  // ∂x/∂(source column)
+      const float g = gx * dcol[u] + (bottom - top) * drow;
+      const float y = static_cast<float>(cur[u]);
+      sx_ += x;
+      sxx += x * x;
+      sxy += x * y;
+      sg += g;
+      sgg += g * g;
+      sxg += x * g;
+      sgy += g * y;
+    }
+    s.sx += sx_;
+    s.sxx += sxx;
+    s.sxy += sxy;
+    s.sg += sg;
+    s.sgg += sgg;
+    s.sxg += sxg;
+    s.sgy += sgy;
+  }
+  return s;
+}
+
+// Gauss–Newton on σ with the NCC's gain and offset free: at each iterate the current glance y is
+// regressed on [x(σ), ∂x/∂σ, 1] (x the magnified earlier glance), y ≈ a·x + c·∂x/∂σ + b, i.e. the
+// first-order model y ≈ a·x(σ + c/a) + b; the step is c/a (at most ±kMaxStep). Each iterate's
+// NCC comes with its sums; a step that lowers it is halved. Returns the best iterate (σ, NCC);
+// the NCC is −2 when a side is uniform.
+struct GnResult {
+  double scale = 1.0;
+  double ncc = -2.0;
+};
+
+GnResult RefineScale(const Glance& earlier, const Glance& current, const ScaleWindow& w, double cx, double cy,
+                     double start, double max_scale) {
+  constexpr int kMaxIterations = 5;
+  constexpr double kMaxStep = 0.05, kTolerance = 2e-4;
+  const double cyy = w.syy - w.sy * w.sy / w.n;
+  GnResult best;
+  double scale = std::clamp(start, 1.0, max_scale);
+  for (int it = 0; it < kMaxIterations; ++it) {
+    const GnSums s = SumScaleGn(earlier, current, w, cx, cy, scale);
+    const double cxx = s.sxx - s.sx * s.sx / w.n;
+    const double cxy = s.sxy - s.sx * w.sy / w.n;
+    if (!(cxx > 0.0) || !(cyy > 0.0)) return best;
+    const double ncc = cxy / std::sqrt(cxx * cyy);
+    if (ncc <= best.ncc) {  // worse than the best iterate: back half-way towards it
+      const double back = 0.5 * (scale + best.scale);
+      if (std::abs(back - best.scale) < kTolerance) break;
+      scale = back;
+      continue;
+    }
+    best = {scale, ncc};
+    const double cgg = s.sgg - s.sg * s.sg / w.n;
+    const double cxg = s.sxg - s.sx * s.sg / w.n;
+    const double cgy = s.sgy - s.sg * w.sy / w.n;
+    const double det = cxx * cgg - cxg * cxg;
+    if (!(det > 1e-12 * cxx * cgg)) break;  // no scale information (e.g. no gradient)
+    const double a = (cgg * cxy - cxg * cgy) / det;
+    const double c = (cxx * cgy - cxg * cxy) / det;
+    if (!(a > 0.0)) break;  // anti-correlated: no meaningful step
+    const double next = std::clamp(scale + std::clamp(c / a, -kMaxStep, kMaxStep), 1.0, max_scale);
+    if (std::abs(next - scale) < kTolerance) {
+      // Converged: the last step is below the tolerance; its end is the answer.
+      best.scale = next;
+      break;
+    }
+    scale = next;
+  }
+  return best;
+}
+
 }  // namespace
 
 std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& current, double cx, double cy,
-                                         double half_width_px, double half_height_px, double max_scale) {
+                                         double half_width_px, double half_height_px, double max_scale,
+                                         std::optional<double> initial_scale, double accept_ncc) {
   if (!std::isfinite(cx) || !std::isfinite(cy) || !(max_scale > 1.0)) return std::nullopt;
   const int u0 = std::max(0, static_cast<int>(std::ceil(cx - half_width_px)));
   const int u1 = std::min(kW - 1, static_cast<int>(std::floor(cx + half_width_px)));
@@ -240,41 +351,29 @@ std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& cu
   if (u1 < u0 || v1 < v0) return std::nullopt;
   const ScaleWindow full = MakeWindow(current, u0, u1, v0, v1, 1);
   if (full.n < 12.0) return std::nullopt;
-  // The coarse search reads every other row and column of a large window (a quarter of the
-  // work); the fine search reads every pixel.
+  const double var = std::max(0.0, full.syy / full.n - (full.sy / full.n) * (full.sy / full.n));
+  const double contrast = std::sqrt(var);
+  // Predicted scale: Gauss–Newton from it, accepted when its NCC reaches accept_ncc.
+  if (initial_scale && std::isfinite(*initial_scale)) {
+    const GnResult r = RefineScale(earlier, current, full, cx, cy, *initial_scale, max_scale);
+    if (r.ncc <= -2.0) return std::nullopt;  // a uniform side
+    if (r.ncc >= accept_ncc) return ScaleMatch{r.scale, r.ncc, contrast, false};
+  }
+  // Grid: every 0.01 on every other row and column of a large window (a quarter of the work),
+  // then Gauss–Newton on every pixel from the grid's best.
   const ScaleWindow coarse_window = full.n > 256.0 ? MakeWindow(current, u0, u1, v0, v1, 2) : full;
-  const auto ncc = [&](const ScaleWindow& w, double scale) {
-    return Ncc(SumScale(earlier, current, w, cx, cy, scale), w);
-  };
-  // Coarse grid (0.01), then a fine grid (0.002) within ±0.01 of its best, then a parabola
-  // through the fine best and its neighbours.
-  constexpr double kCoarse = 0.01, kFine = 0.002;
-  constexpr int kHalfFine = 5;
+  constexpr double kCoarse = 0.01;
   const int n_coarse = static_cast<int>(std::ceil((max_scale - 1.0) / kCoarse - 1e-9));
-  double centre = 1.0, best = ncc(coarse_window, 1.0);
+  double centre = 1.0, best = Ncc(SumScale(earlier, current, coarse_window, cx, cy, 1.0), coarse_window);
   for (int i = 1; i <= n_coarse; ++i) {
     const double sc = std::min(max_scale, 1.0 + i * kCoarse);
-    const double r = ncc(coarse_window, sc);
+    const double r = Ncc(SumScale(earlier, current, coarse_window, cx, cy, sc), coarse_window);
     if (r > best) best = r, centre = sc;
   }
   if (best <= -2.0) return std::nullopt;  // a uniform side
-  std::array<double, 2 * kHalfFine + 1> fine{};
-  int best_i = kHalfFine;
-  for (int i = 0; i <= 2 * kHalfFine; ++i) {
-    const double sc = centre + (i - kHalfFine) * kFine;
-    fine[i] = (sc < 1.0 - 1e-12 || sc > max_scale + 1e-12) ? -3.0 : ncc(full, sc);
-    if (fine[i] > fine[best_i]) best_i = i;
-  }
-  best = fine[best_i];
-  if (best <= -2.0) return std::nullopt;
-  double best_scale = centre + (best_i - kHalfFine) * kFine;
-  if (best_i > 0 && best_i < 2 * kHalfFine && fine[best_i - 1] > -2.0 && fine[best_i + 1] > -2.0) {
-    const double a = fine[best_i - 1], b = fine[best_i], c = fine[best_i + 1];
-    const double denom = a - 2.0 * b + c;
-    if (denom < 0.0) best_scale += kFine * std::clamp(0.5 * (a - c) / denom, -0.5, 0.5);
-  }
-  const double var = std::max(0.0, full.syy / full.n - (full.sy / full.n) * (full.sy / full.n));
-  return ScaleMatch{std::clamp(best_scale, 1.0, max_scale), best, std::sqrt(var)};
+  const GnResult r = RefineScale(earlier, current, full, cx, cy, centre, max_scale);
+  if (r.ncc <= -2.0) return std::nullopt;
+  return ScaleMatch{r.scale, r.ncc, contrast, true};
 }
 
 void TimeToContactDistance::MeasureScale(const Glance& earlier, const Glance& current, int baseline_frames,
@@ -293,8 +392,13 @@ void TimeToContactDistance::MeasureScale(const Glance& earlier, const Glance& cu
     else
       half_h = std::max(lo * 0.67, 0.75 * half_w);
   }
-  const std::optional<ScaleMatch> m =
-      ExpansionScale(earlier, current, cx_, cy_, half_w, half_h, options_.ttc_max_scale);
+  // Predicted magnification: a plane at the reference distance d̂ (now) seen s metres earlier
+  // magnifies by (d̂ + s) / d̂.
+  std::optional<double> predicted;
+  if (reference_m && *reference_m > 0.0 && travelled_m && *travelled_m > 0.0)
+    predicted = 1.0 + *travelled_m / *reference_m;
+  const std::optional<ScaleMatch> m = ExpansionScale(earlier, current, cx_, cy_, half_w, half_h,
+                                                     options_.ttc_max_scale, predicted, options_.ttc_min_ncc);
   if (!m || m->contrast < options_.ttc_min_contrast || m->ncc < options_.ttc_min_ncc)
     return SetNoEstimate(out, Reason::kZeroGradient);
   out.raw = m->scale - 1.0;

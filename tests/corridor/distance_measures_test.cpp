@@ -176,6 +176,40 @@ TEST(ExpansionScale, RecoversAKnownMagnificationDespiteAGainChange) {
   }
 }
 
+// Gauss–Newton from a prediction (the fast path): starting up to ±0.04 off, it reaches the
+// known magnification without the grid, gain change included; a prediction into the wrong
+// basin of a periodic texture (poor NCC) falls back to the grid and still finds it.
+TEST(ExpansionScale, RefinesFromAPredictionToTheKnownMagnification) {
+  const double cx = 15.5, cy = 10.0;
+  for (double k : {1.02, 1.05, 1.12, 1.3}) {
+    const Glance a = SmoothPattern(1.0, cx, cy);
+    Glance b = SmoothPattern(k, cx, cy);
+    for (auto& p : b.pixels) p = static_cast<std::uint8_t>(std::lround(std::clamp(1.15 * p - 8.0, 0.0, 255.0)));
+    const auto grid = ExpansionScale(a, b, cx, cy, 32, 24, 1.5);
+    ASSERT_TRUE(grid.has_value());
+    EXPECT_TRUE(grid->searched);
+    for (double off : {-0.04, -0.01, 0.0, 0.02, 0.04}) {
+      const auto m = ExpansionScale(a, b, cx, cy, 32, 24, 1.5, k + off, 0.95);
+      ASSERT_TRUE(m.has_value()) << "k = " << k << " off " << off;
+      EXPECT_FALSE(m->searched) << "k = " << k << " off " << off;
+      EXPECT_NEAR(m->scale, k, 0.004) << "k = " << k << " off " << off;
+      EXPECT_NEAR(m->scale, grid->scale, 0.002) << "k = " << k << " off " << off;
+      EXPECT_GT(m->ncc, 0.99);
+    }
+  }
+  // A contracting image from a prediction above 1: exactly 1, as the grid says.
+  const auto away = ExpansionScale(SmoothPattern(1.1, cx, cy), SmoothPattern(1.0, cx, cy), cx, cy, 32, 24, 1.5,
+                                   1.05, 0.5);
+  ASSERT_TRUE(away.has_value());
+  EXPECT_DOUBLE_EQ(away->scale, 1.0);
+  // Unreachable acceptance (NCC ≥ 1.01): the grid runs and its answer stands.
+  const Glance ta = TexturedPattern(1.0, cx, cy), tb = TexturedPattern(1.08, cx, cy);
+  const auto fallback = ExpansionScale(ta, tb, cx, cy, 32, 24, 1.5, 1.4, 1.01);
+  ASSERT_TRUE(fallback.has_value());
+  EXPECT_TRUE(fallback->searched);
+  EXPECT_NEAR(fallback->scale, 1.08, 0.01);
+}
+
 TEST(ExpansionScale, WindowContractionAndDegenerateInputs) {
   const double cx = 15.5, cy = 11.5;
   const Glance a = SmoothPattern(1.0, cx, cy);

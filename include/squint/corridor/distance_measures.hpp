@@ -22,21 +22,27 @@ std::optional<double> TimeToContactFrames(const Glance& previous, const Glance& 
                                           double cy, bool gain_compensation = false);
 
 // The magnification σ ≥ 1 of `current` relative to `earlier` about the expansion centre (cx, cy):
-// the σ in (1, max_scale) whose magnified earlier glance, earlier(c + (p − c)/σ) (bilinear),
+// the σ in [1, max_scale] whose magnified earlier glance, earlier(c + (p − c)/σ) (bilinear),
 // best matches `current` by normalised cross-correlation over the current glance's pixels p
 // within ±half_width_px columns and ±half_height_px rows of the centre (clipped to the glance).
-// NCC makes the match invariant to a gain and offset change between the frames. Searched on a
-// 0.01 grid (every other row and column of windows over 256 pixels), refined on a 0.002 grid
-// within ±0.01 and by a parabola through the best three. `ncc` gets the
-// best correlation. None when the window holds fewer than 12 pixels or either side is uniform.
-// A best σ at 1 (no measurable expansion) returns exactly 1.
+// NCC makes the match invariant to a gain and offset change between the frames.
+// With `initial_scale` (a prediction, e.g. from the last distance estimate and the travel):
+// Gauss–Newton on σ from it (the current glance regressed on the magnified earlier one, its
+// σ-derivative and 1; 2–5 iterations), accepted when its NCC reaches `accept_ncc`. Without a
+// prediction, or when the refined NCC is below accept_ncc: a grid every 0.01 over [1, max_scale]
+// (every other row and column of windows over 256 pixels), then Gauss–Newton from its best.
+// `ncc` gets the best correlation. None when the window holds fewer than 12 pixels or either
+// side is uniform. A best σ at 1 (no measurable expansion) returns exactly 1.
 struct ScaleMatch {
   double scale = 1.0;
   double ncc = 0.0;
   double contrast = 0.0;  // standard deviation of the current glance in the window (grey levels)
+  bool searched = false;  // the grid ran (no prediction, or its refinement was poor)
 };
 std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& current, double cx, double cy,
-                                         double half_width_px, double half_height_px, double max_scale);
+                                         double half_width_px, double half_height_px, double max_scale,
+                                         std::optional<double> initial_scale = std::nullopt,
+                                         double accept_ncc = 1.0);
 
 class DistanceMeasure {
  public:
