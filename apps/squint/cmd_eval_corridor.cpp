@@ -70,20 +70,23 @@ void Run(const EvalCorridorCliOptions& opt) {
   const nlohmann::json r = nlohmann::json::parse(text);
   std::cout << fmt::format("{} sequences, {} frames -> {}/report.json\n", seqs.size(), total, opt.out);
   if (r.contains("heading") && !r["heading"].empty()) {
-    std::cout << "heading      rmse_deg  coverage  right_sign(|h|>=5)\n";
+    std::cout << (run_opt.perception.heading.filter.enabled
+                      ? "fused heading: the heading filter over time (fused_instant: the per-frame fusion)\n"
+                      : "fused heading: the per-frame fusion (the options do not enable the heading filter)\n");
+    std::cout << "heading          rmse_deg  coverage  right_sign(|h|>=5)\n";
     for (auto& [k, v] : r["heading"].items())
-      std::cout << fmt::format("  {:<10} {:8.2f}  {:8.3f}  {:.3f} of {}\n", k, v["rmse_deg"].get<double>(),
+      std::cout << fmt::format("  {:<14} {:8.2f}  {:8.3f}  {:.3f} of {}\n", k, v["rmse_deg"].get<double>(),
                                v["coverage"].get<double>(), v["right_sign"]["fraction"].get<double>(),
                                v["right_sign"]["frames"].get<std::size_t>());
   }
   if (r.contains("distance") && !r["distance"].empty()) {
-    std::cout << "distance     rmse_m   coverage  per range (rmse_m, coverage)\n";
+    std::cout << "distance         rmse_m   coverage  per range (rmse_m, coverage)\n";
     for (auto& [k, v] : r["distance"].items()) {
       std::string ranges;
       for (auto& g : v["ranges"])
         ranges += fmt::format("  {:g}-{:g} m: {:.2f} ({:.2f})", g["min_m"].get<double>(), g["max_m"].get<double>(),
                               g["rmse_m"].get<double>(), g["coverage"].get<double>());
-      std::cout << fmt::format("  {:<10} {:7.2f}  {:8.3f} {}\n", k, v["rmse_m"].get<double>(),
+      std::cout << fmt::format("  {:<14} {:7.2f}  {:8.3f} {}\n", k, v["rmse_m"].get<double>(),
                                v["coverage"].get<double>(), ranges);
     }
   }

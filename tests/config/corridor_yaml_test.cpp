@@ -30,6 +30,13 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   o.heading.phase_line_vote = false;
   o.heading.phase_min_vertical_deg = 12.5;
   o.heading.phase_min_horizon_rows = 3.5;
+  o.heading.cues[1].std_deg = 11.25;
+  o.heading.filter.enabled = true;
+  o.heading.filter.process_std_deg = 0.45;
+  o.heading.filter.odom_noise_fraction = 0.125;
+  o.heading.filter.no_odom_std_deg = 2.5;
+  o.heading.filter.gate_chi2 = 6.25;
+  o.heading.filter.reinit_after_rejections = 13;
   o.distance.weights = {3.0, 0.5, 0.25};
   o.distance.enabled[1] = false;
   o.distance.alpha2 = 123.5;
@@ -66,6 +73,14 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   EXPECT_FALSE(back.heading.phase_line_vote);
   EXPECT_EQ(back.heading.phase_min_vertical_deg, 12.5);
   EXPECT_EQ(back.heading.phase_min_horizon_rows, 3.5);
+  EXPECT_EQ(back.heading.cues[1].std_deg, 11.25);
+  EXPECT_EQ(back.heading.cues[0].std_deg, CorridorOptions{}.heading.cues[0].std_deg);
+  EXPECT_TRUE(back.heading.filter.enabled);
+  EXPECT_EQ(back.heading.filter.process_std_deg, 0.45);
+  EXPECT_EQ(back.heading.filter.odom_noise_fraction, 0.125);
+  EXPECT_EQ(back.heading.filter.no_odom_std_deg, 2.5);
+  EXPECT_EQ(back.heading.filter.gate_chi2, 6.25);
+  EXPECT_EQ(back.heading.filter.reinit_after_rejections, 13);
   EXPECT_EQ(back.distance.weights, o.distance.weights);
   EXPECT_EQ(back.distance.enabled, o.distance.enabled);
   EXPECT_EQ(back.distance.alpha2, 123.5);
@@ -106,6 +121,10 @@ TEST(CorridorYaml, BadInputIsOneClearError) {
   EXPECT_NE(message("distance: {alpha2: abc}").find("'distance.alpha2' has a value of the wrong type"), std::string::npos);
   EXPECT_NE(message("gate: {threshold: -1}").find("gate.threshold must be >= 0"), std::string::npos);
   EXPECT_NE(message("glance: {sampling: bilinear}").find("point or area"), std::string::npos);
+  EXPECT_NE(message("heading: {filter: {enable: true}}").find("unknown key 'heading.filter.enable'"), std::string::npos);
+  EXPECT_NE(message("heading: {filter: {gate_chi2: 0}}").find("heading.filter.gate_chi2 must be > 0"), std::string::npos);
+  EXPECT_NE(message("heading: {filter: {reinit_after_rejections: 1.5}}").find("'heading.filter.reinit_after_rejections' has a value of the wrong type"), std::string::npos);
+  EXPECT_NE(message("heading: {cues: {phase: {std_deg: -1}}}").find("heading.cues.phase.std_deg must be > 0"), std::string::npos);
   EXPECT_NE(message("heading: [1, 2").find("not valid YAML"), std::string::npos);
   for (const std::string& m : {message("x: 1"), message("gate: {threshold: -1}")})
     EXPECT_EQ(m.rfind("calib.yaml: ", 0), 0u) << m;

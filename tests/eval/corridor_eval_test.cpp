@@ -30,6 +30,9 @@ CorridorCalibrationFile NonDefaultFile() {
   f.options.heading.cues[0].scale = 0.87;
   f.options.heading.cues[0].bias_deg = -1.25;
   f.options.heading.cues[4].weight = 0.0625;
+  f.options.heading.cues[2].std_deg = 3.5;
+  f.options.heading.filter.enabled = true;
+  f.options.heading.filter.reinit_after_rejections = 7;
   f.options.distance.ttc_scale = 1.1;
   f.options.distance.alpha2 = 12.5;
   f.options.distance.beta2 = 9.5;
@@ -162,6 +165,25 @@ TEST(FitCorridorCalibration, FusionWeightsFromVarianceOnlyWhenAskedAndNeverForSw
   EXPECT_FALSE(kept.options.distance.enabled[2]);
 }
 
+TEST(FitCorridorCalibration, TurnsTheHeadingFilterOnWithEachCuesSigmaUnlessAskedNotTo) {
+  const CorridorCalibrationFile on = FitCorridorCalibration(PlantedRuns(), {}, {}, {});
+  EXPECT_TRUE(on.options.heading.filter.enabled);
+  for (int k = 0; k < corridor::kHeadingCueCount; ++k) {
+    EXPECT_GE(on.record.heading[k].error_std_deg, 0.5) << k;
+    EXPECT_EQ(on.options.heading.cues[k].std_deg, on.record.heading[k].error_std_deg) << k;
+  }
+  CalibrateOptions no_filter;
+  no_filter.heading_filter = false;
+  const CorridorCalibrationFile off = FitCorridorCalibration(PlantedRuns(), {}, {}, no_filter);
+  EXPECT_FALSE(off.options.heading.filter.enabled);
+  for (int k = 0; k < corridor::kHeadingCueCount; ++k)
+    EXPECT_EQ(off.options.heading.cues[k].std_deg, on.options.heading.cues[k].std_deg) << k;
+  // A distance-only calibration leaves the base options' heading filter as it was.
+  CalibrateOptions distance_only;
+  distance_only.fit_heading = false;
+  EXPECT_FALSE(FitCorridorCalibration(PlantedRuns(), {}, {}, distance_only).options.heading.filter.enabled);
+}
+
 TEST(FitCorridorCalibration, RefusesRunsWithoutTruthOrWithOneHeading) {
   std::vector<CorridorRun> runs = PlantedRuns();
   for (auto& r : runs)
@@ -187,6 +209,7 @@ TEST(CorridorReport, KnownErrorsGiveKnownNumbersAndFiles) {
     f.gt.heading_deg = -10.0 + 0.2 * i;
     f.fused_heading_deg = *f.gt.heading_deg + (i % 2 ? 2.0 : -2.0);  // RMSE exactly 2
     f.kalman_heading_deg = *f.gt.heading_deg;
+    f.fused_instant_heading_deg = *f.gt.heading_deg + 3.0;  // RMSE exactly 3
     f.gt.dist_end_m = 10.0 - 0.1 * i;
     f.moving_forward = true;
     f.fused_dist_m = i < 50 ? std::optional<double>(*f.gt.dist_end_m + 1.0) : std::nullopt;
@@ -203,6 +226,7 @@ TEST(CorridorReport, KnownErrorsGiveKnownNumbersAndFiles) {
   const nlohmann::json r = nlohmann::json::parse(text);
   EXPECT_NEAR(r["heading"]["fused"]["rmse_deg"].get<double>(), 2.0, 1e-12);
   EXPECT_NEAR(r["heading"]["kalman"]["rmse_deg"].get<double>(), 0.0, 1e-12);
+  EXPECT_NEAR(r["heading"]["fused_instant"]["rmse_deg"].get<double>(), 3.0, 1e-12);
   EXPECT_NEAR(r["distance"]["fused"]["rmse_m"].get<double>(), 1.0, 1e-12);
   EXPECT_NEAR(r["distance"]["fused"]["coverage"].get<double>(), 0.5, 1e-12);
   EXPECT_NEAR(r["rapid_perception"]["fraction_processed"].get<double>(), 0.25, 1e-12);
