@@ -6,9 +6,10 @@
 // into light maps (floor grid, per-wall tables) from the ceiling lights with 2-D visibility.
 // With n >= 3 samples per pixel side, sampling is adaptive (RenderOptions::adaptive): the pixel
 // corners are traced first and a per-frame mask marks the pixels that wall edges, light panels,
-// decals and flat items may cross (their outlines projected into the image); a pixel whose
-// corners see one region of one plane is shaded once (box-filtered texture, summed-area
-// tables), other pixels shade their samples on the planes met without a full trace (a pixel
+// decals and flat items may cross (their outlines projected into the image; a vertical wall
+// edge row by row); a pixel whose
+// corners see one region of one plane is shaded once (box-filtered texture and light map over
+// its footprint, summed-area tables), other pixels shade their samples on the planes met without a full trace (a pixel
 // that one wall/floor or wall/ceiling line splits: each sample's side from that line's affine
 // image equation, with no plane search).
 // Mirrors reflect the robot's own body (RobotSpec: a matte vertical cylinder around the camera),
@@ -42,7 +43,7 @@ constexpr int kGammaLutSize = 4096;
 // Adaptive supersampling: per-pixel marks of what may lie inside a pixel between its corners.
 constexpr std::uint8_t kMaskGeometry = 1;  // a wall's vertical edge: trace every sample
 constexpr std::uint8_t kMaskPattern = 2;   // a light panel, decal or flat item edge: sample the plane
-constexpr double kMaxShadeRatio = 1.25;    // lighting over a pixel's corners that one shading may cover
+constexpr double kMaxShadeRatio = 1.25;    // lighting over a pixel's corners that one shading may cover (decals)
 constexpr double kGammaLutMax = 4.0;
 
 std::uint64_t SplitMix(std::uint64_t x) {
@@ -129,6 +130,7 @@ struct Renderer::Impl {
     std::int32_t light = -1;           // light panel over the cell
   };
   std::vector<Cell> cells;
+  std::vector<double> floor_sat;  // summed-area table of the cells' irradiance, (gnx + 1) × (gny + 1)
   // Walls.
   struct WallLight {
     std::size_t offset = 0;
@@ -136,7 +138,9 @@ struct Renderer::Impl {
     double lo = 0;  // the wall's start (its along-coordinate at column 0)
     double fu_max = 0;          // nu - 2: the last column pair's start
     const float* irr = nullptr;  // &wall_irr[offset], set once wall_irr is complete
+    std::size_t sat_offset = 0;  // into wall_sat: (nu + 1) × (nz + 1), cell (iu, iz) centred on sample (iu, iz)
   };
+  std::vector<double> wall_sat;
   std::vector<WallLight> wall_light;
   std::vector<float> wall_irr;
   std::vector<int> decal_begin, decal_end;  // per wall, into `decals`
@@ -426,6 +430,24 @@ struct Renderer::Impl {
     for (WallLight& wl : wall_light) {
       wl.fu_max = wl.nu - 2.0;
       wl.irr = wall_irr.data() + wl.offset;
+    }
+    // Summed-area tables of the light maps, for mean irradiance over a pixel's footprint.
+    floor_sat.assign(static_cast<std::size_t>(gnx + 1) * (gny + 1), 0.0);
+    for (int j = 0; j < gny; ++j)
+      for (int i = 0; i < gnx; ++i)
+        floor_sat[static_cast<std::size_t>(j + 1) * (gnx + 1) + i + 1] = cells[static_cast<std::size_t>(j) * gnx + i].irr +
+                                                                          floor_sat[static_cast<std::size_t>(j) * (gnx + 1) + i + 1] +
+                                                                          floor_sat[static_cast<std::size_t>(j + 1) * (gnx + 1) + i] -
+                                                                          floor_sat[static_cast<std::size_t>(j) * (gnx + 1) + i];
+    wall_sat.clear();
+    for (WallLight& wl : wall_light) {  // rows along the wall (iu), columns up it (iz)
+      wl.sat_offset = wall_sat.size();
+      const int sn = wl.nz + 1;
+      wall_sat.resize(wall_sat.size() + static_cast<std::size_t>(wl.nu + 1) * sn, 0.0);
+      double* t = wall_sat.data() + wl.sat_offset;
+      for (int iu = 0; iu < wl.nu; ++iu)
+        for (int iz = 0; iz < wl.nz; ++iz)
+          t[(iu + 1) * sn + iz + 1] = wl.irr[iu * wl.nz + iz] + t[iu * sn + iz + 1] + t[(iu + 1) * sn + iz] - t[iu * sn + iz];
     }
 
     // Obstacles: top and mean side irradiance.
@@ -789,6 +811,44 @@ struct Renderer::Impl {
     return col[0] + (fu - iu) * (col[nz] - col[0]);
   }
 
+  // Mean of a piecewise-constant table over the box [a0, a1] × [b0, b1] in cell units (clamped to
+  // the table, at least 1e-6 cells wide), from its summed-area table `sat` (row stride `stride`,
+  // first index a): the integral image is bilinear within each cell.
+  static double SatBoxMean(const double* sat, std::size_t stride, int na, int nb, double a0, double a1, double b0, double b1) {
+    auto clamp_box = [](double& lo, double& hi, int n) {
+      lo = std::clamp(lo, 0.0, static_cast<double>(n));
+      hi = std::clamp(hi, 0.0, static_cast<double>(n));
+      if (hi - lo < 1e-6) {
+        lo = std::min(lo, n - 1e-6);
+        hi = lo + 1e-6;
+      }
+    };
+    clamp_box(a0, a1, na);
+    clamp_box(b0, b1, nb);
+    auto at = [&](double a, double b) {
+      const int i = std::min(static_cast<int>(a), na - 1), j = std::min(static_cast<int>(b), nb - 1);
+      const double ta = a - i, tb = b - j;
+      const double* r0 = sat + static_cast<std::size_t>(i) * stride + j;
+      const double* r1 = r0 + stride;
+      return (1 - ta) * ((1 - tb) * r0[0] + tb * r0[1]) + ta * ((1 - tb) * r1[0] + tb * r1[1]);
+    };
+    return (at(a1, b1) - at(a0, b1) - at(a1, b0) + at(a0, b0)) / ((a1 - a0) * (b1 - b0));
+  }
+  // Mean floor irradiance over [x0, x1] × [y0, y1] (world metres).
+  double FloorIrradianceMean(double x0, double x1, double y0, double y1) const {
+    const double s = 1.0 / kCell;
+    return SatBoxMean(floor_sat.data(), static_cast<std::size_t>(gnx) + 1, gny, gnx, (y0 - gy0) * s, (y1 - gy0) * s,
+                      (x0 - gx0) * s, (x1 - gx0) * s);
+  }
+  // Mean irradiance of wall w over [along0, along1] × [z0, z1] (its table's samples taken as
+  // cells centred on them).
+  double WallIrradianceMean(int w, double along0, double along1, double z0, double z1) const {
+    const WallLight& wl = wall_light[w];
+    const double s = 1.0 / kWallCell;
+    return SatBoxMean(wall_sat.data() + wl.sat_offset, static_cast<std::size_t>(wl.nz) + 1, wl.nu, wl.nz,
+                      (along0 - wl.lo) * s + 0.5, (along1 - wl.lo) * s + 0.5, z0 * s + 0.5, z1 * s + 0.5);
+  }
+
   // Samples on one plain region (no decal, flat item or light panel) of one plane: the sum of
   // their irradiance and the box their texture coordinates span.
   struct PlainAccum {
@@ -1060,49 +1120,6 @@ struct Renderer::Impl {
     return sum / nn;
   }
 
-  // Mean radiance of a pixel's n×n samples on one plain region of one plane (material `mat`):
-  // the light map at every sample, the texture box-filtered over their footprint.
-  double PixelLit(const Sample* s, std::uint32_t key1, int mat) const {
-    const int nn = n * n;
-    const auto surf = static_cast<Surf>(key1 >> 24);
-    const int id = static_cast<int>(key1 & 0xFFFFFFu);
-    PlainAccum acc;
-    const Sample* const s0 = s;
-    if (surf == Surf::kWall) {
-      // PlaneDistance (WallDistance) and Accumulate written out for one wall: the same values.
-      const WallSegment& ws = world.walls[id];
-      const bool ax = ws.along_x;
-      const double wc = ws.coord, wp = ax ? py : px, wa = ax ? px : py;
-      const double lo = ws.lo - 1e-7, hi = ws.hi + 1e-7;
-      for (int i = 0; i < nn; ++i, ++s) {
-        const double dx = cyaw * s->ca - syaw * s->sa, dy = syaw * s->ca + cyaw * s->sa;
-        const double dp = ax ? dy : dx, da = ax ? dx : dy;
-        if (dp == 0) return PixelOnPlane(s0, key1);
-        const double t = (wc - wp) / dp, along = wa + t * da;
-        if (t <= 0 || along < lo || along > hi) return PixelOnPlane(s0, key1);
-        const double z = cam_h + s->k * t;
-        acc.e_sum += WallIrradiance(id, along, z);
-        acc.u_lo = std::min(acc.u_lo, along), acc.u_hi = std::max(acc.u_hi, along);
-        acc.v_lo = std::min(acc.v_lo, z), acc.v_hi = std::max(acc.v_hi, z);
-      }
-    } else {
-      const bool ceiling = surf == Surf::kCeiling;
-      const double scale = ceiling ? frame_ceiling - cam_h : 1.0;
-      for (int i = 0; i < nn; ++i, ++s) {
-        if (ceiling ? !(s->k > 0) : !(s->k < 0)) return PixelOnPlane(s0, key1);
-        const double dx = cyaw * s->ca - syaw * s->sa, dy = syaw * s->ca + cyaw * s->sa;
-        const double r = ceiling ? scale * s->rk : static_cast<double>(s->rk);
-        const double x = px + dx * r, y = py + dy * r;
-        const double irr = cells[GridIndex(x, y)].irr;
-        acc.e_sum += ceiling ? world.ambient + kCeilingBounce * irr : irr;
-        acc.u_lo = std::min(acc.u_lo, x), acc.u_hi = std::max(acc.u_hi, x);
-        acc.v_lo = std::min(acc.v_lo, y), acc.v_hi = std::max(acc.v_hi, y);
-      }
-    }
-    acc.count = nn;
-    return AccumRadiance(acc, surf, mat);
-  }
-
   // Traces the pixel corners and marks the pixels that hold an edge no corner may see.
   void PrepareAdaptive() {
     for (std::size_t i = 0; i < corners.size(); ++i) {
@@ -1142,8 +1159,7 @@ struct Renderer::Impl {
       for (double a : {ws.lo, ws.hi}) {
         const Eigen::Vector2d e = ws.along_x ? Eigen::Vector2d(a, ws.coord) : Eigen::Vector2d(ws.coord, a);
         if (OutsideWedge(1, &e.x(), &e.y(), 1)) continue;  // would mark no pixel
-        const Eigen::Vector3d pts[2] = {ToCamera(e.x(), e.y(), 0.0), ToCamera(e.x(), e.y(), ws.height_m)};
-        MarkPolygon(pts, 2, (e - cam_xy).norm(), kMaskGeometry);
+        MarkSegment(ToCamera(e.x(), e.y(), 0.0), ToCamera(e.x(), e.y(), ws.height_m), (e - cam_xy).norm(), kMaskGeometry);
       }
     }
     // Light panels.
@@ -1225,6 +1241,40 @@ struct Renderer::Impl {
     if (near > far * (1 + 1e-6) + 1e-6) return;  // behind the walls in every column it spans
     for (int v = v0; v <= v1; ++v)
       for (int u = u0; u <= u1; ++u) mask[static_cast<std::size_t>(v) * camera.width + u] |= bit;
+  }
+
+  // Marks with `bit` every pixel that the segment a-b (camera frame) may cross, row by row: in
+  // each pixel row, the columns of the part of its image within the row (padded as MarkPolygon
+  // pads), unless walls nearer than `near` hide all of its columns.
+  void MarkSegment(Eigen::Vector3d a, Eigen::Vector3d b, double near, std::uint8_t bit) {
+    constexpr double kNear = 1e-3, kPad = 1e-3;
+    if (a.z() < kNear && b.z() < kNear) return;  // wholly behind the camera
+    if (a.z() < kNear) a += (b - a) * ((kNear - a.z()) / (b.z() - a.z()));
+    else if (b.z() < kNear) b += (a - b) * ((kNear - b.z()) / (a.z() - b.z()));
+    const double ua = camera.fx * a.x() / a.z() + camera.cx, va = camera.fy * a.y() / a.z() + camera.cy;
+    const double ub = camera.fx * b.x() / b.z() + camera.cx, vb = camera.fy * b.y() / b.z() + camera.cy;
+    const double vmin = std::min(va, vb), vmax = std::max(va, vb);
+    const int u0 = std::max(0, static_cast<int>(std::ceil(std::max(std::min(ua, ub) - 0.5 - kPad, -1.0))));
+    const int u1 = std::min(camera.width - 1, static_cast<int>(std::floor(std::min(std::max(ua, ub) + 0.5 + kPad, 1e6))));
+    const int v0 = std::max(0, static_cast<int>(std::ceil(std::max(vmin - 0.5 - kPad, -1.0))));
+    const int v1 = std::min(camera.height - 1, static_cast<int>(std::floor(std::min(vmax + 0.5 + kPad, 1e6))));
+    if (u0 > u1 || v0 > v1) return;
+    double far = 0;
+    for (int u = u0; u <= u1; ++u) far = std::max(far, col_max_t[u]);
+    if (near > far * (1 + 1e-6) + 1e-6) return;  // behind the walls in every column it spans
+    const double dv = vb - va;
+    for (int v = v0; v <= v1; ++v) {
+      // The segment's columns over rows [v - 0.5 - pad, v + 0.5 + pad] (u is affine in v).
+      double lo = std::min(ua, ub), hi = std::max(ua, ub);
+      if (std::abs(dv) > 1e-9) {
+        const double t0 = std::clamp((v - 0.5 - kPad - va) / dv, 0.0, 1.0), t1 = std::clamp((v + 0.5 + kPad - va) / dv, 0.0, 1.0);
+        const double x0 = ua + t0 * (ub - ua), x1 = ua + t1 * (ub - ua);
+        lo = std::min(x0, x1), hi = std::max(x0, x1);
+      }
+      const int c0 = std::max(u0, static_cast<int>(std::ceil(lo - 0.5 - kPad)));
+      const int c1 = std::min(u1, static_cast<int>(std::floor(hi + 0.5 + kPad)));
+      for (int u = c0; u <= c1; ++u) mask[static_cast<std::size_t>(v) * camera.width + u] |= bit;
+    }
   }
 
   // Distance along a sample (horizontal direction dx, dy) to the plane `key1` (infinity when the
@@ -1431,9 +1481,8 @@ struct Renderer::Impl {
     if (col_near[u] <= r_max && ObstacleMayShow(u, idx, r_max)) return PixelTraced(s);
     if (!same_plane || (m & kMaskGeometry)) return PixelPlanes(s, idx, (m & kMaskGeometry) != 0, (m & kMaskPattern) != 0);
     if (!same_region || (m & kMaskPattern)) return PixelOnPlane(s, p0.key1);
-    if (shade_hi > kMaxShadeRatio * shade_lo && p0.mat >= 0) {
-      return (p0.key2 & 0xFFFFu) == 0 ? PixelLit(s, p0.key1, p0.mat) : PixelOnPlane(s, p0.key1);
-    }
+    const bool plain = (p0.key2 & 0xFFFFu) == 0;
+    if (!plain && shade_hi > kMaxShadeRatio * shade_lo && p0.mat >= 0) return PixelOnPlane(s, p0.key1);
     if (p0.mat < 0) return p0.b;
     // One region of one plane: the box-filtered texture over the corners' footprint.
     double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf, a_sum = 0;
@@ -1443,7 +1492,21 @@ struct Renderer::Impl {
       v_lo = std::min(v_lo, p.tv), v_hi = std::max(v_hi, p.tv);
       a_sum += p.a;
     }
-    return tex[p0.mat].BoxMean(u_lo, u_hi, v_lo, v_hi) * (0.25 * a_sum) + p0.b;
+    const double t = tex[p0.mat].BoxMean(u_lo, u_hi, v_lo, v_hi);
+    if (plain) {
+      // A plain region: the light map's mean over the footprint's box (summed-area tables), as
+      // Describe composes radiance from irradiance.
+      const MatFast& mf = mats[p0.mat];
+      switch (static_cast<Surf>(p0.key1 >> 24)) {
+        case Surf::kFloor: return t * mf.albedo * FloorIrradianceMean(u_lo, u_hi, v_lo, v_hi) + mf.emission;
+        case Surf::kCeiling:
+          return t * mf.albedo * (world.ambient + kCeilingBounce * FloorIrradianceMean(u_lo, u_hi, v_lo, v_hi)) + mf.emission;
+        case Surf::kWall:
+          return t * (mf.albedo * WallIrradianceMean(static_cast<int>(p0.key1 & 0xFFFFFFu), u_lo, u_hi, v_lo, v_hi) + mf.emission);
+        default: break;
+      }
+    }
+    return t * (0.25 * a_sum) + p0.b;
   }
 
   void Render(const Pose2& pose, MutableGrayView image, std::uint8_t* label, std::ptrdiff_t label_stride, float* range,

@@ -19,8 +19,8 @@ struct RenderOptions {
   int supersample = 2;          // n: n×n samples per pixel, box-averaged in linear radiance
   // n >= 3 (undistorted cameras) only: trace the pixel corners first. A pixel whose four corners
   // see one region of one plane (one material; no light panel, decal, flat item, wall edge or
-  // obstacle inside) is shaded once from a box-filtered texture over its footprint (with its
-  // n×n samples' light map where the corners' lighting differs by more than 25%); a pixel on
+  // obstacle inside) is shaded once from a box-filtered texture and the light map's mean over
+  // its footprint (summed-area tables of both); a pixel on
   // several planes or with a pattern edge inside shades its n×n samples on the planes its
   // corners (or, at a wall edge, its samples' bearing-table walls) see, without tracing; near
   // obstacles, mirrors and stepped ceilings its n×n samples are traced in full. Ranges and
