@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include "squint/io/sequence.hpp"
 
@@ -92,6 +93,20 @@ TEST(CalibrateCli, SharedDataCalibrationIsReadBackAndOverlapWarned) {
   CliResult r = RunSquint("calibrate " + seqs + " --out " + out.string());
   ASSERT_EQ(r.code, 0) << r.all();
   ASSERT_TRUE(fs::exists(out));
+  // The written options turn the heading filter on, with each cue's fitted sigma; not with
+  // --no-heading-filter.
+  const YAML::Node with = YAML::LoadAllFromFile(out.string()).at(0)["heading"];
+  EXPECT_TRUE(with["filter"]["enabled"].as<bool>());
+  const fs::path plain = fs::temp_directory_path() / "squint_calibrate_test_data_plain.yaml";
+  r = RunSquint("calibrate " + seqs + " --no-heading-filter --out " + plain.string());
+  ASSERT_EQ(r.code, 0) << r.all();
+  const YAML::Node without = YAML::LoadAllFromFile(plain.string()).at(0)["heading"];
+  EXPECT_FALSE(without["filter"]["enabled"].as<bool>());
+  const double sigma = with["cues"]["phase"]["std_deg"].as<double>();
+  EXPECT_EQ(without["cues"]["phase"]["std_deg"].as<double>(), sigma);
+  EXPECT_NE(sigma, 8.0);  // the fitted sigma, not the default
+  EXPECT_GE(sigma, 0.5);
+  fs::remove(plain);
   r = RunSquint("perceive " + (data / "orient-1-01").string() + " --calib " + out.string() + " --out " +
                 (fs::temp_directory_path() / "squint_calibrate_test.csv").string());
   EXPECT_EQ(r.code, 0) << r.all();

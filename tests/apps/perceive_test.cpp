@@ -1,5 +1,6 @@
 // End-to-end `squint perceive`: the exact CSV header, one row per frame with stamps copied, the
-// gate's skipped rows, and bad inputs giving one error line, a non-zero exit and no output file.
+// gate's skipped rows, the heading filter fed with the odometry's turn, and bad inputs giving one
+// error line, a non-zero exit and no output file.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -141,6 +142,64 @@ TEST(PerceiveCli, BadInputsFailCleanlyWithoutOutput) {
   EXPECT_NE(r.code, 0);
   EXPECT_FALSE(fs::exists(out));
   EXPECT_NE(r.err.find("heading.nonsense"), std::string::npos) << r.err;
+}
+
+// Six identical frames with odometry turning `deg_per_frame` each (the view does not follow: only
+// the heading filter's prediction differs between two such sequences).
+fs::path WriteTurningSequence(const std::string& name, double deg_per_frame) {
+  const fs::path dir = TempDir(name);
+  squint::io::SequenceInfo info;
+  info.name = name;
+  info.camera.width = 160;
+  info.camera.height = 120;
+  info.camera.fx = info.camera.fy = 170.0;
+  info.camera.cx = 79.5;
+  info.camera.cy = 59.5;
+  info.camera.height_m = 0.7;
+  info.frame_rate_hz = 4.0;
+  squint::io::SequenceWriter writer(dir, info);
+  cv::Mat img(120, 160, CV_8UC1);
+  for (int v = 0; v < 120; ++v)
+    for (int u = 0; u < 160; ++u)
+      img.at<std::uint8_t>(v, u) = cv::saturate_cast<std::uint8_t>(110.0 + 80.0 * std::cos(6 * std::atan2(v - 59.5, u - 95.0)));
+  for (int i = 0; i < 6; ++i) {
+    squint::io::FrameRecord rec;
+    rec.stamp = 0.25 * i;
+    rec.odom = squint::Pose2{0.0, 0.0, i * deg_per_frame * M_PI / 180.0};
+    writer.Add(rec, img);
+  }
+  writer.Finish();
+  return dir;
+}
+
+TEST(PerceiveCli, HeadingFilterFollowsTheOdometryTurnAndTheInstantColumnKeepsThePerFrameFusion) {
+  const fs::path calib = TempDir("filter.yaml");
+  {
+    std::ofstream f(calib);
+    f << "heading: {filter: {enabled: true}}\n";
+  }
+  auto last_row = [&](const fs::path& seq, const std::string& extra) {
+    const fs::path out = TempDir("filter.csv");
+    EXPECT_EQ(RunSquint("perceive " + seq.string() + " --no-gate " + extra + " --out " + out.string()).code, 0);
+    const auto lines = ReadLines(out);
+    EXPECT_EQ(lines.size(), 7u);
+    EXPECT_EQ(Split(lines[0]).back(), "heading_instant_deg");
+    const auto cells = Split(lines.back());
+    EXPECT_EQ(cells.size(), Split(lines[0]).size());
+    return cells;
+  };
+  const fs::path left = WriteTurningSequence("left", 3.0), right = WriteTurningSequence("right", -3.0);
+  // Without the filter the heading is the per-frame fusion, whatever the odometry says.
+  const auto plain = last_row(left, "");
+  ASSERT_FALSE(plain[2].empty());
+  EXPECT_EQ(plain[2], plain.back());
+  EXPECT_EQ(last_row(right, "")[2], plain[2]);
+  // With it, the same frames read further left while the odometry turns left than while it
+  // turns right; the per-frame fusion stays the same.
+  const auto l = last_row(left, "--calib " + calib.string()), r = last_row(right, "--calib " + calib.string());
+  EXPECT_EQ(l.back(), plain.back());
+  EXPECT_EQ(r.back(), plain.back());
+  EXPECT_GT(std::stod(l[2]), std::stod(r[2]) + 1.0);
 }
 
 }  // namespace
