@@ -141,6 +141,13 @@ struct Renderer::Impl {
     std::size_t sat_offset = 0;  // into wall_sat: (nu + 1) × (nz + 1), cell (iu, iz) centred on sample (iu, iz)
   };
   std::vector<double> wall_sat;
+  // What WallDistance needs of each wall, compact: its extent widened by 1e-7, and per frame the
+  // camera's offset from its plane (coord - py or coord - px).
+  struct WallFast {
+    double lo = 0, hi = 0, coord = 0, off = 0;
+    bool along_x = true;
+  };
+  std::vector<WallFast> wall_fast;
   std::vector<WallLight> wall_light;
   std::vector<float> wall_irr;
   std::vector<int> decal_begin, decal_end;  // per wall, into `decals`
@@ -309,6 +316,8 @@ struct Renderer::Impl {
       decal_end[decals[i].wall] = static_cast<int>(i) + 1;
     }
     for (const WallSegment& ws : world.walls) has_mirrors = has_mirrors || world.materials[ws.material].mirror > 0;
+    wall_fast.clear();
+    for (const WallSegment& ws : world.walls) wall_fast.push_back({ws.lo - 1e-7, ws.hi + 1e-7, ws.coord, 0.0, ws.along_x});
     for (const Decal& d : decals) has_mirrors = has_mirrors || world.materials[d.material].mirror > 0;
     body_r = world.robot.radius_m;
     body_top = cam.height_m + world.robot.body_above_camera_m;
@@ -475,6 +484,7 @@ struct Renderer::Impl {
     syaw = std::sin(pose.yaw);
     cam_h = camera.height_m;
     frame_ceiling = uniform_ceiling ? ceiling_h : std::max(cam_h + 0.01, world.CeilingAt({px, py}));
+    for (WallFast& f : wall_fast) f.off = f.coord - (f.along_x ? py : px);
     if (has_mirrors) PrepareBodyLight();
     const double yaw0 = pose.yaw + a_min;
     // Walls into the bearing table.
@@ -628,18 +638,18 @@ struct Renderer::Impl {
   // Horizontal distance along (dx, dy) from the camera to wall w; infinity when the ray misses it.
   double WallDistance(int w, double dx, double dy) const {
     if (w < 0) return kInf;
-    const WallSegment& ws = world.walls[w];
+    const WallFast& f = wall_fast[w];
     double t, along;
-    if (ws.along_x) {
+    if (f.along_x) {
       if (dy == 0) return kInf;
-      t = (ws.coord - py) / dy;
+      t = f.off / dy;
       along = px + t * dx;
     } else {
       if (dx == 0) return kInf;
-      t = (ws.coord - px) / dx;
+      t = f.off / dx;
       along = py + t * dy;
     }
-    if (t <= 0 || along < ws.lo - 1e-7 || along > ws.hi + 1e-7) return kInf;
+    if (t <= 0 || along < f.lo || along > f.hi) return kInf;
     return t;
   }
 
