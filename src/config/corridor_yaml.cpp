@@ -105,6 +105,7 @@ void ReadHeading(const YAML::Node& node, const std::string& source, corridor::He
   if (auto f = r.Child("filter")) {
     MapReader m(*f, "heading.filter", source);
     m.Get("enabled", h.filter.enabled);
+    m.Get("process_std_deg_per_sqrt_s", h.filter.process_std_deg_per_sqrt_s);
     m.Get("process_std_deg", h.filter.process_std_deg);
     m.Get("odom_noise_fraction", h.filter.odom_noise_fraction);
     m.Get("no_odom_std_deg", h.filter.no_odom_std_deg);
@@ -250,7 +251,8 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
   e << YAML::Key << "min_consensus_cues" << YAML::Value << h.min_consensus_cues;
   e << YAML::Key << "fallback_deg_per_column" << YAML::Value << h.fallback_deg_per_column;
   e << YAML::Key << "filter" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "enabled"
-    << YAML::Value << h.filter.enabled << YAML::Key << "process_std_deg" << YAML::Value << h.filter.process_std_deg
+    << YAML::Value << h.filter.enabled << YAML::Key << "process_std_deg_per_sqrt_s" << YAML::Value
+    << h.filter.process_std_deg_per_sqrt_s << YAML::Key << "process_std_deg" << YAML::Value << h.filter.process_std_deg
     << YAML::Key << "odom_noise_fraction" << YAML::Value << h.filter.odom_noise_fraction << YAML::Key
     << "no_odom_std_deg" << YAML::Value << h.filter.no_odom_std_deg << YAML::Key << "gate_chi2" << YAML::Value
     << h.filter.gate_chi2 << YAML::Key << "reinit_after_rejections" << YAML::Value

@@ -10,7 +10,9 @@
 namespace squint::corridor {
 
 std::string CorridorKalmanOptions::Validate() const {
-  if (!(heading_process_std_deg >= 0.0) || !(dist_process_std_m >= 0.0)) return "process std must be >= 0";
+  if (!(heading_process_std_deg >= 0.0) || !(dist_process_std_m >= 0.0) ||
+      !(heading_process_std_deg_per_sqrt_s >= 0.0) || !std::isfinite(heading_process_std_deg_per_sqrt_s))
+    return "process std must be >= 0";
   if (!(heading_odom_noise_fraction >= 0.0) || !(dist_odom_noise_fraction >= 0.0))
     return "odometry noise fractions must be >= 0";
   if (!(no_odom_heading_std_deg >= 0.0) || !(no_odom_dist_std_m >= 0.0)) return "no-odometry std must be >= 0";
@@ -32,7 +34,7 @@ void CorridorKalman::Reset() {
   heading_rejections_ = dist_rejections_ = 0;
 }
 
-void CorridorKalman::Predict(const std::optional<Pose2>& prev_T_curr) {
+void CorridorKalman::Predict(const std::optional<Pose2>& prev_T_curr, double dt_s) {
   Eigen::Matrix2d f = Eigen::Matrix2d::Identity();
   Eigen::Matrix2d q = Eigen::Matrix2d::Zero();
   if (prev_T_curr) {
@@ -44,7 +46,10 @@ void CorridorKalman::Predict(const std::optional<Pose2>& prev_T_curr) {
     f(1, 0) = (dx * std::sin(h) + dy * std::cos(h)) * DegToRad(1.0);
     x_(0) = RadToDeg(WrapPi(DegToRad(x_(0) + dyaw_deg)));
     x_(1) = std::max(options_.min_dist_m, x_(1) - along);
-    const double sh = options_.heading_process_std_deg + options_.heading_odom_noise_fraction * std::abs(dyaw_deg);
+    const double step_std = (options_.heading_process_std_deg_per_sqrt_s > 0.0 && dt_s > 0.0 && std::isfinite(dt_s))
+                                ? options_.heading_process_std_deg_per_sqrt_s * std::sqrt(dt_s)
+                                : options_.heading_process_std_deg;
+    const double sh = step_std + options_.heading_odom_noise_fraction * std::abs(dyaw_deg);
     const double sd = options_.dist_process_std_m + options_.dist_odom_noise_fraction * std::hypot(dx, dy);
     q(0, 0) = sh * sh;
     q(1, 1) = sd * sd;

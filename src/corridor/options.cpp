@@ -54,6 +54,8 @@ const char* ReasonText(Reason reason) {
 }
 
 std::string HeadingFilterOptions::Validate() const {
+  if (!Finite(process_std_deg_per_sqrt_s) || process_std_deg_per_sqrt_s < 0.0)
+    return "heading.filter.process_std_deg_per_sqrt_s must be >= 0";
   if (!Finite(process_std_deg) || process_std_deg < 0.0) return "heading.filter.process_std_deg must be >= 0";
   if (!Finite(odom_noise_fraction) || odom_noise_fraction < 0.0)
     return "heading.filter.odom_noise_fraction must be >= 0";

@@ -20,6 +20,7 @@ constexpr double kMinDrivingTravelM = 1e-3;
 CorridorKalmanOptions HeadingFilterKalmanOptions(const HeadingFilterOptions& f) {
   CorridorKalmanOptions k;
   k.heading_process_std_deg = f.process_std_deg;
+  k.heading_process_std_deg_per_sqrt_s = f.process_std_deg_per_sqrt_s;
   k.heading_odom_noise_fraction = f.odom_noise_fraction;
   k.no_odom_heading_std_deg = f.no_odom_std_deg;
   k.gate_chi2 = f.gate_chi2;
@@ -176,11 +177,11 @@ void Perceiver::FuseHeadingCurves(PerceptionResult& result) const {
     h.fused = h.heading_deg && std::abs(*h.heading_deg - deg) <= options_.heading.agreement_deg;
 }
 
-void Perceiver::PredictHeading(std::optional<double> travelled_m, std::optional<double> turned_deg) {
+void Perceiver::PredictHeading(std::optional<double> travelled_m, std::optional<double> turned_deg, double dt_s) {
   if (!options_.heading.filter.enabled) return;
   std::optional<Pose2> motion;
   if (turned_deg && std::isfinite(*turned_deg)) motion = Pose2{travelled_m.value_or(0.0), 0.0, DegToRad(*turned_deg)};
-  heading_filter_.Predict(motion);
+  heading_filter_.Predict(motion, dt_s);
 }
 
 void Perceiver::FilterHeading(PerceptionResult& result) {
@@ -243,7 +244,7 @@ PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_
   if (travelled && *travelled < kMinDrivingTravelM) ResetDistanceHistory();
   if (travelled) travel_m_ += std::max(0.0, *travelled);
   // The heading filter follows the odometry on every frame, processed or skipped.
-  if (had_previous) PredictHeading(travelled_m, turned_deg);
+  if (had_previous) PredictHeading(travelled_m, turned_deg, dt_s);
   if (!process) {
     PushHistory(ttc_glance);
     // Skipped frames still become the previous frame of the next one, so consecutive-frame

@@ -11,7 +11,8 @@
 //       bright:    {...}
 //     slice_width_px: 3                    # and every other HeadingOptions member, same name
 //     max_abs_heading_deg: 40              #   (validity range) ...
-//     filter: {enabled: false, process_std_deg: 0.3, odom_noise_fraction: 0.05, no_odom_std_deg: 3,
+//     filter: {enabled: false, process_std_deg_per_sqrt_s: 0.1, process_std_deg: 0.3,
+//              odom_noise_fraction: 0.05, no_odom_std_deg: 3,
 //              gate_chi2: 9, reinit_after_rejections: 20}   # heading filter over time
 //   distance:
 //     cues:                                # per cue: enabled, weight

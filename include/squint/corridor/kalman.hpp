@@ -15,6 +15,10 @@ struct CorridorKalmanOptions {
   // Process noise added per prediction step, plus a part proportional to the odometry motion
   // (odometry drifts with what it measures).
   double heading_process_std_deg = 0.3;
+  // When > 0 and Predict() is given the frame interval dt, the heading's per-step noise is this
+  // times sqrt(dt) instead of heading_process_std_deg (a random walk per second, the same at 4 Hz
+  // and at 30 Hz). 0 (default): per step.
+  double heading_process_std_deg_per_sqrt_s = 0.0;
   double heading_odom_noise_fraction = 0.05;  // of |Δyaw|
   double dist_process_std_m = 0.02;
   double dist_odom_noise_fraction = 0.05;     // of the travelled distance
@@ -42,7 +46,8 @@ class CorridorKalman {
   // in the previous robot frame (prev_T_curr = Between(world_T_prev, world_T_curr)); none when
   // odometry is unknown. Heading rotates by Δyaw; the distance shrinks by the motion's
   // component along the corridor axis, Δx·cos(h) − Δy·sin(h).
-  void Predict(const std::optional<Pose2>& prev_T_curr);
+  // dt_s: the time since the previous frame (0 = unknown; see heading_process_std_deg_per_sqrt_s).
+  void Predict(const std::optional<Pose2>& prev_T_curr, double dt_s = 0.0);
   // Fuses one heading measurement with its standard deviation; returns false when gated out.
   bool UpdateHeading(double heading_deg, double std_deg);
   // Fuses one distance-to-end measurement; returns false when gated out.

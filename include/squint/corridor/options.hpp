@@ -23,15 +23,20 @@ struct HeadingCueOptions {
 };
 
 // A filter over time for the fused heading (the Kalman filter, heading half): the state
-// is rotated by the odometry's turn between frames (process noise process_std_deg +
-// odom_noise_fraction · |turn| per frame, no_odom_std_deg per frame without a turn reading)
-// and updated on every processed frame by each cue's calibrated estimate with the cue's std_deg.
+// is rotated by the odometry's turn between frames (process noise process_std_deg_per_sqrt_s ·
+// sqrt(dt) + odom_noise_fraction · |turn| per frame, process_std_deg per frame in place of the
+// first term when the frame interval is unknown, no_odom_std_deg per frame without a turn
+// reading) and updated on every processed frame by each cue's calibrated estimate with the cue's
+// std_deg. The noise is per second, not per frame, so the filter's memory is the same at 4 Hz
+// and at 30 Hz: 0.1 deg/sqrt(s) was chosen on the calibration sets (orient-1-00/01 and
+// orient-4-00/01, the simulator's corridor-0…4 sweeps and drives; docs/calibration.md).
 // An estimate more than sqrt(gate_chi2) σ from the prediction is rejected; after
 // reinit_after_rejections consecutive rejections the state restarts from the next estimate.
 // Off by default (the heading is the per-frame fusion below); `squint calibrate` turns it on
 // in the file it writes (docs/calibration.md compares both).
 struct HeadingFilterOptions {
   bool enabled = false;
+  double process_std_deg_per_sqrt_s = 0.1;
   double process_std_deg = 0.3;
   double odom_noise_fraction = 0.05;
   double no_odom_std_deg = 3.0;

@@ -108,7 +108,7 @@ class Perceiver {
                                double dt_s, std::optional<double> turned_deg);
   // The heading filter (HeadingOptions::filter): the prediction by the odometry's turn (every
   // frame) and the update by the cues (processed frames).
-  void PredictHeading(std::optional<double> travelled_m, std::optional<double> turned_deg);
+  void PredictHeading(std::optional<double> travelled_m, std::optional<double> turned_deg, double dt_s);
   void FilterHeading(PerceptionResult& result);
   void Fuse(PerceptionResult& result) const;
   // Heading fusion by the sum of the cues' normalised curves (HeadingOptions::fuse_curves).
