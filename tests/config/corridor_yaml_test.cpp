@@ -33,6 +33,7 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   o.heading.cues[1].std_deg = 11.25;
   o.heading.filter.enabled = true;
   o.heading.filter.process_std_deg = 0.45;
+  o.heading.filter.process_std_deg_per_sqrt_s = 0.375;
   o.heading.filter.odom_noise_fraction = 0.125;
   o.heading.filter.no_odom_std_deg = 2.5;
   o.heading.filter.gate_chi2 = 6.25;
@@ -77,6 +78,7 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   EXPECT_EQ(back.heading.cues[0].std_deg, CorridorOptions{}.heading.cues[0].std_deg);
   EXPECT_TRUE(back.heading.filter.enabled);
   EXPECT_EQ(back.heading.filter.process_std_deg, 0.45);
+  EXPECT_EQ(back.heading.filter.process_std_deg_per_sqrt_s, 0.375);
   EXPECT_EQ(back.heading.filter.odom_noise_fraction, 0.125);
   EXPECT_EQ(back.heading.filter.no_odom_std_deg, 2.5);
   EXPECT_EQ(back.heading.filter.gate_chi2, 6.25);
@@ -122,6 +124,7 @@ TEST(CorridorYaml, BadInputIsOneClearError) {
   EXPECT_NE(message("gate: {threshold: -1}").find("gate.threshold must be >= 0"), std::string::npos);
   EXPECT_NE(message("glance: {sampling: bilinear}").find("point or area"), std::string::npos);
   EXPECT_NE(message("heading: {filter: {enable: true}}").find("unknown key 'heading.filter.enable'"), std::string::npos);
+  EXPECT_NE(message("heading: {filter: {process_std_deg_per_sqrt_s: -0.1}}").find("heading.filter.process_std_deg_per_sqrt_s must be >= 0"), std::string::npos);
   EXPECT_NE(message("heading: {filter: {gate_chi2: 0}}").find("heading.filter.gate_chi2 must be > 0"), std::string::npos);
   EXPECT_NE(message("heading: {filter: {reinit_after_rejections: 1.5}}").find("'heading.filter.reinit_after_rejections' has a value of the wrong type"), std::string::npos);
   EXPECT_NE(message("heading: {cues: {phase: {std_deg: -1}}}").find("heading.cues.phase.std_deg must be > 0"), std::string::npos);

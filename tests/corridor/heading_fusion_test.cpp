@@ -152,10 +152,35 @@ TEST(HeadingFilter, SkippedFramesCarryTheOdometryTurnToTheNextProcessedFrame) {
   const PerceptionResult r = perceiver.Process(View(img), 0.0, 0.1, 0.0);
   ASSERT_TRUE(r.processed && r.heading_deg);
   ASSERT_NEAR(*r.heading_instant_deg, z, 1e-12);  // the same frame reads the same
-  // Predicted z + 10 with variance 64 + 5·(0.3 + 0.05·2)² + 0.3², then the update by z (σ 8).
-  const double p = 64.0 + 5.0 * 0.4 * 0.4 + 0.09;
+  // Predicted z + 10 with variance 64 + 5·(0.1·√0.1 + 0.05·2)² + (0.1·√0.1)² (process noise per
+  // √s over 0.1 s frames plus 5 % of each turn), then the update by z (σ 8).
+  const double s0 = 0.1 * std::sqrt(0.1);
+  const double p = 64.0 + 5.0 * (s0 + 0.1) * (s0 + 0.1) + s0 * s0;
   const double k = p / (p + 64.0);
   EXPECT_NEAR(*r.heading_deg, z + 10.0 * (1.0 - k), 1e-9);
+}
+
+TEST(HeadingFilter, ProcessNoiseIsPerSecondAndPerFrameOnlyWithoutAFrameInterval) {
+  // One cue, the same frame twice; the second update's gain shows the predicted variance.
+  auto second = [](double dt_s) {
+    CorridorOptions options = PhaseOnlyFiltered();
+    options.heading.filter.process_std_deg_per_sqrt_s = 2.0;
+    options.heading.filter.process_std_deg = 5.0;
+    Perceiver perceiver(options, Camera160());
+    const auto img = RadialFrame(102.0, 59.5);
+    const double z = perceiver.Process(View(img), std::nullopt, dt_s, 0.0).heading_deg.value();
+    // Turned 4 deg: the prediction is z + 4, pulled back towards z by the gain.
+    const double h = perceiver.Process(View(img), std::nullopt, dt_s, 4.0).heading_deg.value();
+    return (h - z) / 4.0;  // 1 - gain
+  };
+  auto expected = [](double step_std) {
+    const double sd = step_std + 0.05 * 4.0;
+    const double p = 64.0 + sd * sd;
+    return 1.0 - p / (p + 64.0);
+  };
+  EXPECT_NEAR(second(0.25), expected(2.0 * 0.5), 1e-9);  // 2 deg/√s over 0.25 s
+  EXPECT_NEAR(second(4.0), expected(2.0 * 2.0), 1e-9);   // ... over 4 s
+  EXPECT_NEAR(second(0.0), expected(5.0), 1e-9);         // interval unknown: per frame
 }
 
 TEST(HeadingFilter, RejectsAnOutlierAndRestartsAfterRepeatedRejections) {
