@@ -64,6 +64,7 @@ std::string ExplorerOptions::Validate() const {
   if (!(avoid_speed_fraction > 0.0 && avoid_speed_fraction <= 1.0)) return "avoid_speed_fraction must be in (0, 1]";
   if (!Positive(avoid_hold_s)) return "avoid_hold_s must be positive";
   if (avoid_blocked_frames < 1) return "avoid_blocked_frames must be >= 1";
+  if (avoid_confirm_advices < 1) return "avoid_confirm_advices must be >= 1";
   if (!Positive(robot_radius_m)) return "robot_radius_m must be positive";
   if (!NonNegative(safety_margin_m)) return "safety_margin_m must be >= 0";
   if (!NonNegative(stop_margin_m)) return "stop_margin_m must be >= 0";
@@ -576,8 +577,13 @@ bool Explorer::ObstacleOverride(const Percept& p, Command* cmd) {
     avoid_stamp_s_ = p.stamp_s;
     avoid_yaw_ = p.odom_T_robot.yaw;
     avoid_blocked_count_ = avoid_advice_.in_path && avoid_advice_.blocked ? avoid_blocked_count_ + 1 : 0;
+    avoid_in_path_count_ = avoid_advice_.in_path ? avoid_in_path_count_ + 1 : 0;
   }
-  if (avoid_stamp_s_ < 0.0 || p.stamp_s - avoid_stamp_s_ > opt_.avoid_hold_s || !avoid_advice_.in_path) return false;
+  if (avoid_stamp_s_ < 0.0 || p.stamp_s - avoid_stamp_s_ > opt_.avoid_hold_s || !avoid_advice_.in_path) {
+    if (avoid_stamp_s_ >= 0.0 && p.stamp_s - avoid_stamp_s_ > opt_.avoid_hold_s) avoid_in_path_count_ = avoid_blocked_count_ = 0;
+    return false;
+  }
+  if (avoid_in_path_count_ < opt_.avoid_confirm_advices) return false;
   ++avoid_overrides_;
   if (avoid_advice_.blocked) {
     *cmd = {};

@@ -82,6 +82,9 @@ struct ExplorerOptions {
   double avoid_speed_fraction = 0.5;
   double avoid_hold_s = 0.5;
   int avoid_blocked_frames = 2;
+  // An obstacle must be across the path on this many consecutive advices before the override
+  // acts (single-pair false obstacles, e.g. floor joints, are common).
+  int avoid_confirm_advices = 2;
   // Visual sonar (used when Percepts carry scans): remembered floor contacts limit the speed so
   // that the robot's disc stops before anything it saw, steer around obstacles, centre the
   // robot between the side walls, detect the corridor's end and tell open sides from walls.
@@ -303,6 +306,7 @@ class Explorer {
   double avoid_stamp_s_ = -1.0;
   double avoid_yaw_ = 0.0;
   int avoid_blocked_count_ = 0;
+  int avoid_in_path_count_ = 0;
   long avoid_overrides_ = 0;
   int avoid_stops_ = 0;
 };
