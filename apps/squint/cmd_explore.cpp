@@ -123,6 +123,7 @@ struct SonarViewOptions {
   std::string world = "default";
   std::string pose;  // X,Y,YAW_DEG
   std::string png;   // optional: the sonar frame
+  bool grey = false; // print the frame's grey levels instead of the columns
 };
 
 // One sonar frame at a pose, as the explorer's runner renders it (64×48, cropped to 4 rows above
@@ -154,6 +155,14 @@ void RunSonarView(const SonarViewOptions& opt) {
   renderer.Render(pose, view, nullptr, 0, nullptr, 0, 0);
   explore::VisualSonar sonar(cam, run_opt.sonar);
   const auto& cols = sonar.Process(view);
+  if (opt.grey) {
+    for (int v = 0; v < image.rows; ++v) {
+      std::cout << fmt::format("{:2d}", v);
+      for (int u = 0; u < image.cols; ++u) std::cout << fmt::format(" {:3d}", image.at<std::uint8_t>(v, u));
+      std::cout << "\n";
+    }
+    return;
+  }
   static const char* kKinds[] = {"boundary", "blocked_near", "far", "unknown"};
   std::cout << "column,bearing_deg,kind,range_m,boundary_row,floor_edge_m\n";
   for (std::size_t u = 0; u < cols.size(); ++u) {
@@ -197,6 +206,7 @@ void Register(CLI::App& root) {
   sv->add_option("--world", sopt->world, "Built-in world name or world YAML file")->capture_default_str();
   sv->add_option("--pose", sopt->pose, "X,Y,YAW_DEG (default: the world's start)");
   sv->add_option("--png", sopt->png, "Also write the sonar frame, magnified 8x");
+  sv->add_flag("--grey", sopt->grey, "Print the frame's grey levels (one line per row) instead of the columns");
   sv->callback([sopt] { RunSonarView(*sopt); });
 }
 

@@ -20,6 +20,8 @@ std::string ObstacleMemoryOptions::Validate() const {
   if (!(clear_blind_min_range_m >= 0.0) || !std::isfinite(clear_blind_min_range_m)) return "clear_blind_min_range_m must be >= 0";
   if (!(blind_points_from_m >= 0.0) || !std::isfinite(blind_points_from_m)) return "blind_points_from_m must be >= 0";
   if (!(blind_points_keep_s > 0.0) || !std::isfinite(blind_points_keep_s)) return "blind_points_keep_s must be positive";
+  if (confirm_scans < 0 || confirm_scans > 1000) return "confirm_scans must be in [0, 1000]";
+  if (!(confirm_baseline_m >= 0.0) || !std::isfinite(confirm_baseline_m)) return "confirm_baseline_m must be >= 0";
   return {};
 }
 
@@ -33,6 +35,8 @@ void ObstacleMemory::Clear() {
   for (Cell& c : cells_) {
     c.stamp_s = c.free_stamp_s = -1.0;
     c.soft = false;
+    c.scans = 0;
+    c.confirmed = false;
   }
   n_blocked_ = 0;
   gathered_.clear();
@@ -47,8 +51,19 @@ ObstacleMemory::Cell& ObstacleMemory::At(const Eigen::Vector2d& p) {
   return cells_[static_cast<std::size_t>(jj * n + ii)];
 }
 
-void ObstacleMemory::Insert(const Eigen::Vector2d& p, double stamp_s) {
+void ObstacleMemory::Insert(const Eigen::Vector2d& p, const Eigen::Vector2d& from, double stamp_s) {
   Cell& c = At(p);
+  if (c.stamp_s >= 0.0 && !c.soft && stamp_s - c.stamp_s <= options_.keep_seconds) {
+    // Seen again in the same cell: one more scan; confirmed once enough scans from far enough apart.
+    ++c.scans;
+    if (options_.confirm_scans > 0 && c.scans >= options_.confirm_scans &&
+        (from - c.first_from).norm() >= options_.confirm_baseline_m)
+      c.confirmed = true;
+  } else {
+    c.scans = 1;
+    c.first_from = from;
+    c.confirmed = false;
+  }
   c.p = p;
   c.stamp_s = stamp_s;
   c.soft = false;
@@ -65,6 +80,8 @@ void ObstacleMemory::InsertBlindRay(const Eigen::Vector2d& origin, double yaw, d
     c.p = p;
     c.stamp_s = stamp_s;
     c.soft = true;
+    c.scans = 0;
+    c.confirmed = false;
   }
 }
 
@@ -84,7 +101,7 @@ void ObstacleMemory::ClearRay(const Eigen::Vector2d& origin, double yaw, double 
     const Eigen::Vector2d q = c.p - origin;
     const double along = q.dot(d);
     const double lateral = std::abs(d.x() * q.y() - d.y() * q.x());
-    if (along < to_m && lateral <= 0.02 + 0.01 * along) c.stamp_s = -1.0;
+    if (along < to_m && lateral <= 0.02 + 0.01 * along && !(c.confirmed && !c.soft)) c.stamp_s = -1.0;
   }
 }
 
@@ -120,7 +137,7 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
       case SonarReturn::kBoundary: {
         const double from = c.range_m >= options_.clear_blind_min_range_m ? 0.0 : near_blind_m;
         ClearRay(o, yaw, from, c.range_m - clear_margin, near_blind_m, stamp_s);
-        Insert(o + c.range_m * d, stamp_s);
+        Insert(o + c.range_m * d, o, stamp_s);
         break;
       }
       case SonarReturn::kUnknown:

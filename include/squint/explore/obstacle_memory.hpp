@@ -32,6 +32,12 @@ struct ObstacleMemoryOptions {
   // robot turns) known. 0 turns them off.
   double blind_points_from_m = 0.6;
   double blind_points_keep_s = 5.0;   // soft points older than this are forgotten
+  // A boundary seen again at the same place (cell) by this many scans, from positions at least
+  // confirm_baseline_m apart, is confirmed: floor seen beyond it later no longer removes it (only
+  // age does). Something standing stays where it is as the robot moves; what contradicts it is
+  // a reflection (a mirror shows the floor continuing behind its base). 0 turns it off.
+  int confirm_scans = 3;
+  double confirm_baseline_m = 0.3;
   std::string Validate() const;
 };
 
@@ -66,12 +72,15 @@ class ObstacleMemory {
     double stamp_s = -1.0;       // < 0: empty
     double free_stamp_s = -1.0;  // when floor was last seen here (< 0: never)
     bool soft = false;           // from a blocked-near column (position along its ray unknown)
+    int scans = 0;               // scans that saw a boundary in this cell (see confirm_scans)
+    Eigen::Vector2d first_from = Eigen::Vector2d::Zero();  // where the first of them was taken
+    bool confirmed = false;
   };
   Cell& At(const Eigen::Vector2d& p);
   const Cell& At(const Eigen::Vector2d& p) const { return const_cast<ObstacleMemory*>(this)->At(p); }
   // True when floor was seen (within keep_seconds of `now_s`) along the ray from from_m to to_m.
   bool SeenFree(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double now_s) const;
-  void Insert(const Eigen::Vector2d& p, double stamp_s);
+  void Insert(const Eigen::Vector2d& p, const Eigen::Vector2d& from, double stamp_s);
   // Soft points along a blocked-near ray where the floor was not seen.
   void InsertBlindRay(const Eigen::Vector2d& origin, double yaw, double to_m, double stamp_s);
   // Removes points along the ray from from_m to to_m; marks floor seen from seen_from_m on.
