@@ -1,8 +1,11 @@
 #!/usr/bin/env python3
 """Offline sweep of the rapid-perception gate (threshold x max_skipped_frames) on `squint perceive
---no-gate` CSVs. The Perceiver's heading has no memory, so the heading of a frame the gate lets
-through equals its ungated heading: the gate only chooses which frames count, and its decisions
-depend only on the gate_change column (|H(t) - H(t-1)| / H(reference), previous-frame mode).
+--no-gate` CSVs, for the per-frame heading fusion (column heading_instant_deg, or heading_deg in
+CSVs written before it existed). The per-frame fusion has no memory, so the heading of a frame the
+gate lets through equals its ungated heading: the gate only chooses which frames count, and its
+decisions depend only on the gate_change column (|H(t) - H(t-1)| / H(reference), previous-frame
+mode). The heading filter (heading.filter in calibrated options) has memory: its gated heading
+differs from the ungated one, so measure it with `squint eval corridor` (rapid_perception).
 
     squint perceive SEQ --no-gate --calib calib.yaml --out SEQ.csv      # per sequence
     python3 docs/eval/gate_sweep.py --cal c0.csv ... --test c5.csv ...
@@ -32,9 +35,10 @@ def simulate(runs, threshold, max_skipped):
             skipped = 0 if process else skipped + 1
             frames += 1
             kept += process
-            if r["heading_deg"] == "" or r["gt_heading_deg"] == "":
+            h = r.get("heading_instant_deg", r["heading_deg"])
+            if h == "" or r["gt_heading_deg"] == "":
                 continue
-            e = float(r["heading_deg"]) - float(r["gt_heading_deg"])
+            e = float(h) - float(r["gt_heading_deg"])
             every.append(e)
             if process:
                 processed.append(e)
