@@ -157,19 +157,23 @@ TEST(Perceiver, FallbackScaleWithoutIntrinsics) {
 }
 
 TEST(Perceiver, NoHeapAllocationPerGlanceInSteadyState) {
-  CorridorOptions options;
-  options.gate.enabled = false;
-  options.distance.speed_mps = 0.4;
-  Perceiver perceiver(options, Camera160());
-  const auto a = Frame(85.0, 59.5), b = Frame(86.0, 59.5, 4);
-  perceiver.Process(View(a), std::nullopt, 0.1);  // warm-up: tables built once
-  perceiver.Process(View(b), std::nullopt, 0.1);
-  const long before = g_allocations.load();
-  for (int i = 0; i < 20; ++i) {
-    const PerceptionResult r = perceiver.Process(View(i % 2 ? a : b), std::nullopt, 0.1);
-    ASSERT_TRUE(r.processed);
+  for (const bool filter : {false, true}) {  // also with the heading filter (calibrated options)
+    CorridorOptions options;
+    options.gate.enabled = false;
+    options.distance.speed_mps = 0.4;
+    options.heading.filter.enabled = filter;
+    Perceiver perceiver(options, Camera160());
+    const auto a = Frame(85.0, 59.5), b = Frame(86.0, 59.5, 4);
+    perceiver.Process(View(a), std::nullopt, 0.1);  // warm-up: tables built once
+    perceiver.Process(View(b), std::nullopt, 0.1);
+    const long before = g_allocations.load();
+    for (int i = 0; i < 20; ++i) {
+      const PerceptionResult r = perceiver.Process(View(i % 2 ? a : b), std::nullopt, 0.1, 1.0);
+      ASSERT_TRUE(r.processed);
+      EXPECT_EQ(r.heading_deg.has_value(), filter || r.heading_instant_deg.has_value());
+    }
+    EXPECT_EQ(g_allocations.load() - before, 0) << "filter " << filter;
   }
-  EXPECT_EQ(g_allocations.load() - before, 0);
 }
 
 }  // namespace
