@@ -45,6 +45,12 @@ std::optional<double> CentreCue(const corridor::PerceptionResult& r) {
 
 }  // namespace
 
+obstacles::IptOptions LoopIptOptions() {
+  obstacles::IptOptions o;
+  o.features.detector = obstacles::Detector::kOrb;
+  return o;
+}
+
 std::string ExploreRunOptions::Validate() const {
   if (!(minutes > 0.0) || !std::isfinite(minutes)) return "minutes must be positive";
   if (minutes > 24 * 60.0) return "minutes must be at most 1440 (one simulated day)";
@@ -55,6 +61,15 @@ std::string ExploreRunOptions::Validate() const {
   if (sonar_width < 16 || sonar_width > 640 || sonar_height < 12 || sonar_height > 480) return "sonar size must be within 16x12..640x480";
   if (sonar_supersample < 1 || sonar_supersample > 8) return "sonar_supersample must be in [1, 8]";
   if (std::string e = sonar.Validate(); !e.empty()) return "sonar." + e;
+  if (ipt_every < 1 || ipt_every > 60) return "ipt_every must be in [1, 60]";
+  if (ipt_width < 32 || ipt_width > 1280 || ipt_height < 24 || ipt_height > 960) return "ipt size must be within 32x24..1280x960";
+  if (!(ipt_min_baseline_m >= 0.0 && ipt_min_baseline_m <= 1.0)) return "ipt_min_baseline_m must be in [0, 1]";
+  if (!(ipt_max_pair_s > 0.0 && ipt_max_pair_s <= 10.0)) return "ipt_max_pair_s must be in (0, 10]";
+  if (ipt_bottom_margin_px < 0 || ipt_bottom_margin_px > 20) return "ipt_bottom_margin_px must be in [0, 20]";
+  if (ipt_supersample < 1 || ipt_supersample > 8) return "ipt_supersample must be in [1, 8]";
+  if (std::string e = ipt.Validate(); !e.empty()) return "ipt." + e;
+  if (std::string e = avoid.Validate(); !e.empty()) return "avoid." + e;
+  if (std::string e = advice.Validate(); !e.empty()) return "advice." + e;
   if (std::string e = explorer.Validate(); !e.empty()) return "explorer." + e;
   if (std::string e = perception.Validate(); !e.empty()) return "perception." + e;
   if (std::string e = odometry.Validate(); !e.empty()) return "odometry." + e;
@@ -104,6 +119,40 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
     sonar_image.create(sonar_camera.height, sonar_camera.width, CV_8UC1);
   }
 
+  // The obstacle pipeline's frames: the camera at ipt_width × ipt_height, rendered every ipt_every
+  // frames while following; each is paired with the previous one.
+  std::optional<sim::Renderer> ipt_renderer;
+  std::optional<obstacles::IptPipeline> ipt;
+  std::optional<obstacles::Avoider> avoider;
+  std::optional<obstacles::PolarMapper> polar;
+  obstacles::GapOptions avoid_gap;
+  std::vector<obstacles::ContactPoint> kept_contacts;
+  std::vector<obstacles::Gap> gaps;
+  explore::ObstacleAdviceOptions advice_options = options.advice;
+  advice_options.robot_radius_m = world.robot.radius_m;
+  cv::Mat ipt_previous, ipt_current;
+  Pose2 ipt_previous_odom;
+  double ipt_previous_s = 0.0;
+  bool have_ipt_previous = false;
+  obstacles::PairResult pair;
+  if (options.obstacle_pipeline) {
+    const CameraModel ipt_camera = world.camera.Model().Scaled(options.ipt_width, options.ipt_height);
+    sim::RenderOptions ir = render;
+    ir.supersample = options.ipt_supersample;
+    ir.seed = options.seed + 2000003u;
+    ipt_renderer.emplace(world, ipt_camera, ir);
+    ipt.emplace(ipt_camera, options.ipt);
+    obstacles::AvoidOptions avoid = options.avoid;
+    avoid.gap.robot_radius_m = world.robot.radius_m;
+    avoider.emplace(ipt_camera, avoid);
+    polar.emplace(ipt_camera, avoid.polar);
+    avoid_gap = avoid.gap;
+    kept_contacts.reserve(256);
+    gaps.reserve(64);
+    ipt_previous.create(ipt_camera.height, ipt_camera.width, CV_8UC1);
+    ipt_current.create(ipt_camera.height, ipt_camera.width, CV_8UC1);
+  }
+
   ExploreRunResult out;
   out.world_name = world.name;
   out.start = start;
@@ -149,6 +198,46 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
       p.sonar = &sonar->Process(sv);
       p.sonar_near_blind_m = sonar->NearBlindRangeM();
       perception_cpu += ThreadCpuSeconds() - cpu1;
+    }
+    // The obstacle pipeline, only while following (a pair needs forward motion; turning in place
+    // gives pure rotations). Leaving the follow state drops the previous frame.
+    if (ipt && explorer.State() != explore::ExploreState::kFollow) have_ipt_previous = false;
+    // A pair needs a baseline: the previous frame is kept until the odometry moved ipt_min_baseline_m
+    // from it (or it is older than ipt_max_pair_s, when it is replaced without a pair).
+    const bool ipt_due = ipt && explorer.State() == explore::ExploreState::kFollow && f % options.ipt_every == 0;
+    const double ipt_baseline_m = have_ipt_previous ? (odom.Translation() - ipt_previous_odom.Translation()).norm() : 0.0;
+    if (ipt_due && have_ipt_previous && ipt_baseline_m < options.ipt_min_baseline_m &&
+        p.stamp_s - ipt_previous_s <= options.ipt_max_pair_s) {
+      // wait for more baseline
+    } else if (ipt_due) {
+      if (ipt_baseline_m < options.ipt_min_baseline_m) have_ipt_previous = false;
+      MutableGrayView iv{ipt_current.data, ipt_current.cols, ipt_current.rows, static_cast<std::ptrdiff_t>(ipt_current.step)};
+      ipt_renderer->Render(world_T_robot, iv, nullptr, 0, nullptr, 0, static_cast<std::uint64_t>(f));
+      if (have_ipt_previous) {
+        const double cpu3 = ThreadCpuSeconds();
+        ipt->Process(ipt_previous, ipt_current, ipt_previous_odom, odom, &pair);
+        ++out.summary.ipt_pairs;
+        if (pair.Ok()) {
+          const obstacles::AvoidResult& ar = avoider->Process(ipt_current, pair.features);
+          // The map again without the contacts whose outline ran off the image's bottom edge.
+          kept_contacts.clear();
+          const double bottom_row = ipt_current.rows - 1 - options.ipt_bottom_margin_px;
+          for (const obstacles::ContactPoint& c : ar.contacts)
+            if (!options.ipt_drop_bottom_contacts || c.pixel.y() < bottom_row) kept_contacts.push_back(c);
+          const obstacles::PolarMap& map = polar->Build(kept_contacts, ar.ground_floor_m);
+          obstacles::FindGaps(map, avoid_gap, &gaps);
+          p.obstacles = explore::MakeObstacleAdvice(map, obstacles::ChooseSteering(gaps), advice_options);
+          ++out.summary.ipt_classified;
+          if (p.obstacles->in_path) ++out.summary.advice_in_path;
+        }
+        const double used = ThreadCpuSeconds() - cpu3;
+        perception_cpu += used;
+        out.summary.ipt_cpu_seconds += used;
+      }
+      std::swap(ipt_previous, ipt_current);
+      ipt_previous_odom = odom;
+      ipt_previous_s = p.stamp_s;
+      have_ipt_previous = true;
     }
     const double cpu2 = ThreadCpuSeconds();
     const explore::Command cmd = explorer.Step(p);
@@ -196,6 +285,8 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   s.frames = frames;
   s.frames_fully_processed = processed_frames;
   s.perception_cpu_seconds = perception_cpu;
+  s.override_frames = explorer.ObstacleOverrides();
+  s.obstacle_stops = explorer.ObstacleStops();
   out.topo = explorer.Map().Nodes();
   // "Could not proceed": the robot covered almost nothing new, or barely moved.
   const double expected_m = options.explorer.cruise_speed_mps * s.sim_seconds;
@@ -213,6 +304,13 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
                   s.distance_m, s.sim_seconds / 60.0, 100.0 * s.coverage, s.ends_detected, s.turns, s.collisions);
   }
   s.outcome = line;
+  if (ipt) {
+    std::snprintf(line, sizeof line,
+                  "; obstacle pipeline: %ld pairs, %ld classified, %ld with an obstacle in the path, %ld override frames, "
+                  "%d stop-and-turns",
+                  s.ipt_pairs, s.ipt_classified, s.advice_in_path, s.override_frames, s.obstacle_stops);
+    s.outcome += line;
+  }
   s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return out;
 }

@@ -15,11 +15,18 @@
 #include "squint/core/pose.hpp"
 #include "squint/corridor/options.hpp"
 #include "squint/explore/explorer.hpp"
+#include "squint/explore/obstacle_advice.hpp"
+#include "squint/obstacles/avoider.hpp"
+#include "squint/obstacles/ipt_pipeline.hpp"
 #include "squint/sim/renderer.hpp"
 #include "squint/sim/robot.hpp"
 #include "squint/sim/world.hpp"
 
 namespace squint::eval {
+
+// The IPT stage's options in the loop: ORB features (KLT's corners slide along the floor joints of
+// the simulator's tiled floors and read as obstacles; SIFT costs ≈ 3× ORB's time).
+obstacles::IptOptions LoopIptOptions();
 
 struct ExploreRunOptions {
   double minutes = 45.0;           // simulated time budget (the paper's longest run)
@@ -36,6 +43,30 @@ struct ExploreRunOptions {
   int sonar_height = 48;
   int sonar_supersample = 2;
   explore::VisualSonarOptions sonar;
+  // Obstacle pipeline (issue 6: IPT feature classification, outlines, contacts, polar map,
+  // free-gap steering) on a camera frame of ipt_width × ipt_height rendered every ipt_every frames
+  // while the explorer follows a corridor; each frame is paired with the previous one (odometry
+  // poses for the inverse perspective transform). Its ObstacleAdvice overrides corridor following
+  // when an obstacle lies across the path (ExplorerOptions::avoid_*). Off: only the sonar guards.
+  bool obstacle_pipeline = true;
+  int ipt_every = 12;
+  // A pair's frames must be at least ipt_min_baseline_m apart by odometry (the inverse perspective
+  // transform needs translation; a robot slowed or stopped by an obstacle gives none): the earlier
+  // frame is kept until then, for at most ipt_max_pair_s.
+  double ipt_min_baseline_m = 0.06;
+  double ipt_max_pair_s = 1.0;
+  int ipt_width = 256;   // the obstacle paper's image size (the IPT and outline options are tuned for it)
+  int ipt_height = 192;
+  int ipt_supersample = 1;
+  // Contacts whose outline ran down to the image's bottom edge (within ipt_bottom_margin_px rows)
+  // show no foot in view: in the simulator's tiled floors they are mostly floor joints running
+  // straight ahead below a far obstacle feature. Dropped from the polar map by default (what is
+  // that near was seen farther away first, and the visual sonar guards the near range).
+  bool ipt_drop_bottom_contacts = true;
+  int ipt_bottom_margin_px = 1;
+  obstacles::IptOptions ipt = LoopIptOptions();
+  obstacles::AvoidOptions avoid;          // gap.robot_radius_m is replaced by the world's
+  explore::ObstacleAdviceOptions advice;  // robot_radius_m is replaced by the world's
   explore::ExplorerOptions explorer;  // robot_radius_m is replaced by the world's robot radius
   corridor::CorridorOptions perception;
   sim::OdometryOptions odometry;   // its seed is replaced by `seed`
@@ -73,8 +104,13 @@ struct ExploreSummary {
   int turns = 0;
   long frames = 0;
   long frames_fully_processed = 0;
-  double perception_cpu_seconds = 0.0;
+  double perception_cpu_seconds = 0.0;  // glance perception, sonar and obstacle pipeline
   double wall_seconds = 0.0;
+  // Obstacle pipeline: frame pairs run, pairs classified (an advice given), advices with an
+  // obstacle across the path, frames the explorer's override steered or stopped, stop-and-turns.
+  long ipt_pairs = 0, ipt_classified = 0, advice_in_path = 0, override_frames = 0;
+  int obstacle_stops = 0;
+  double ipt_cpu_seconds = 0.0;  // part of perception_cpu_seconds
   bool proceeded = true;     // false when exploration could not proceed (see outcome)
   std::string outcome;       // one line: what happened
 };
@@ -101,7 +137,7 @@ double CorridorCoverage(const sim::World& world, const std::vector<Pose2>& path,
 // The paper's Fig. 11 for one run: floor plan, path, end-of-corridor detections, numbered turns.
 cv::Mat DrawExploreMap(const sim::World& world, const ExploreRunResult& run, const std::string& title = {});
 
-// Writes summary.json, map.png and trace.csv into `dir` (an existing folder).
+// Writes summary.json, map.png, trace.csv and events.csv into `dir` (an existing folder).
 void WriteExploreOutputs(const std::filesystem::path& dir, const sim::World& world, const ExploreRunResult& run);
 std::string SummaryJson(const ExploreSummary& s);
 
