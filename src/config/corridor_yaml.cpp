@@ -146,6 +146,9 @@ void ReadDistance(const YAML::Node& node, const std::string& source, corridor::D
   r.Get("min_m", d.min_m);
   r.Get("max_m", d.max_m);
   r.Get("median_frames", d.median_frames);
+  r.Get("ttc_window_min_height_px", d.ttc_window_min_height_px);
+  r.Get("ttc_whole_glance_first", d.ttc_whole_glance_first);
+  r.Get("ttc_smooth", d.ttc_smooth);
   r.Get("ttc_max_baseline_frames", d.ttc_max_baseline_frames);
   r.Get("ttc_baseline_fraction", d.ttc_baseline_fraction);
   r.Get("ttc_centre_at_horizon", d.ttc_centre_at_horizon);
@@ -156,6 +159,7 @@ void ReadDistance(const YAML::Node& node, const std::string& source, corridor::D
   r.Get("ttc_window_height_factor", d.ttc_window_height_factor);
   r.Get("ttc_window_min_px", d.ttc_window_min_px);
   r.Get("ttc_initial_baseline_m", d.ttc_initial_baseline_m);
+  r.Get("ttc_warmup_m", d.ttc_warmup_m);
   r.Get("ttc_area_glance", d.ttc_area_glance);
   r.Get("ttc_min_contrast", d.ttc_min_contrast);
   r.Get("ttc_min_ncc", d.ttc_min_ncc);
@@ -279,6 +283,9 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
   e << YAML::Key << "min_m" << YAML::Value << d.min_m;
   e << YAML::Key << "max_m" << YAML::Value << d.max_m;
   e << YAML::Key << "median_frames" << YAML::Value << d.median_frames;
+  e << YAML::Key << "ttc_window_min_height_px" << YAML::Value << d.ttc_window_min_height_px;
+  e << YAML::Key << "ttc_whole_glance_first" << YAML::Value << d.ttc_whole_glance_first;
+  e << YAML::Key << "ttc_smooth" << YAML::Value << d.ttc_smooth;
   e << YAML::Key << "ttc_max_baseline_frames" << YAML::Value << d.ttc_max_baseline_frames;
   e << YAML::Key << "ttc_baseline_fraction" << YAML::Value << d.ttc_baseline_fraction;
   e << YAML::Key << "ttc_centre_at_horizon" << YAML::Value << d.ttc_centre_at_horizon;
@@ -289,6 +296,7 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
   e << YAML::Key << "ttc_window_height_factor" << YAML::Value << d.ttc_window_height_factor;
   e << YAML::Key << "ttc_window_min_px" << YAML::Value << d.ttc_window_min_px;
   e << YAML::Key << "ttc_initial_baseline_m" << YAML::Value << d.ttc_initial_baseline_m;
+  e << YAML::Key << "ttc_warmup_m" << YAML::Value << d.ttc_warmup_m;
   e << YAML::Key << "ttc_area_glance" << YAML::Value << d.ttc_area_glance;
   e << YAML::Key << "ttc_min_contrast" << YAML::Value << d.ttc_min_contrast;
   e << YAML::Key << "ttc_min_ncc" << YAML::Value << d.ttc_min_ncc;

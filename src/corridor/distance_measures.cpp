@@ -382,15 +382,17 @@ void TimeToContactDistance::MeasureScale(const Glance& earlier, const Glance& cu
   Clear(out, Cue());
   out.baseline_frames = baseline_frames;
   if (earlier.pixels == current.pixels) return SetNoEstimate(out, Reason::kIdenticalFrames);
-  double half_w = kW, half_h = kH;
+  const double min_w = std::min(options_.ttc_window_min_px, double{kW});
+  const double min_h = std::min(options_.ttc_window_min_height_px, double{kH});
+  double half_w = options_.ttc_whole_glance_first ? kW : min_w;
+  double half_h = options_.ttc_whole_glance_first ? kH : min_h;
   if (reference_m && *reference_m > 0.0 && focal_px_ > 0.0) {
-    const double lo = options_.ttc_window_min_px;
-    half_w = std::clamp(options_.ttc_window_half_width_m * focal_px_ / *reference_m, lo, double{kW});
+    half_w = std::clamp(options_.ttc_window_half_width_m * focal_px_ / *reference_m, min_w, double{kW});
     if (camera_height_m_ > 0.0)
-      half_h = std::clamp(options_.ttc_window_height_factor * camera_height_m_ * focal_px_ / *reference_m,
-                          lo * 0.67, double{kH});
+      half_h = std::clamp(options_.ttc_window_height_factor * camera_height_m_ * focal_px_ / *reference_m, min_h,
+                          double{kH});
     else
-      half_h = std::max(lo * 0.67, 0.75 * half_w);
+      half_h = std::clamp(0.75 * half_w, min_h, double{kH});
   }
   // Predicted magnification: a plane at the reference distance d̂ (now) seen s metres earlier
   // magnifies by (d̂ + s) / d̂.
@@ -406,6 +408,23 @@ void TimeToContactDistance::MeasureScale(const Glance& earlier, const Glance& cu
   if (m->scale >= options_.ttc_max_scale) return SetNoEstimate(out, Reason::kOutOfRange);
   if (!travelled_m || !(*travelled_m > 0.0)) return SetNoEstimate(out, Reason::kNoTravel);
   SetInput(*this, *travelled_m / (m->scale - 1.0), out);
+}
+
+void SmoothGlance(const Glance& in, Glance& out) {
+  // Separable [1 2 1] / 4 in each direction; the border pixel is repeated.
+  std::array<std::uint16_t, kGlancePixels> rows{};
+  for (int v = 0; v < kH; ++v) {
+    const std::uint8_t* p = in.pixels.data() + v * kW;
+    std::uint16_t* r = rows.data() + v * kW;
+    for (int u = 0; u < kW; ++u) r[u] = p[std::max(u - 1, 0)] + 2 * p[u] + p[std::min(u + 1, kW - 1)];
+  }
+  for (int v = 0; v < kH; ++v) {
+    const std::uint16_t* a = rows.data() + std::max(v - 1, 0) * kW;
+    const std::uint16_t* b = rows.data() + v * kW;
+    const std::uint16_t* c = rows.data() + std::min(v + 1, kH - 1) * kW;
+    std::uint8_t* o = out.pixels.data() + v * kW;
+    for (int u = 0; u < kW; ++u) o[u] = static_cast<std::uint8_t>((a[u] + 2 * b[u] + c[u] + 8) / 16);
+  }
 }
 
 std::optional<double> TimeToContactDistance::Distance(double model_input) const {

@@ -134,6 +134,8 @@ std::string DistanceOptions::Validate() const {
       e << cue << " needs 0 <= valid_min_m < valid_max_m; ";
     if (!Finite(error_growth_per_m[i]) || error_growth_per_m[i] < 0.0) e << cue << ".error_growth_per_m must be >= 0; ";
   }
+  if (!Finite(ttc_window_min_height_px) || ttc_window_min_height_px < 1.0)
+    e << "distance.ttc_window_min_height_px must be >= 1; ";
   if (median_frames < 1 || median_frames > kMaxDistanceMedianFrames)
     e << "distance.median_frames must be in [1, " << kMaxDistanceMedianFrames << "]; ";
   if (!Finite(ttc_max_scale) || ttc_max_scale <= 1.0 || ttc_max_scale > 4.0)
@@ -144,6 +146,7 @@ std::string DistanceOptions::Validate() const {
     e << "distance.ttc_window_height_factor must be positive; ";
   if (!Finite(ttc_window_min_px) || ttc_window_min_px < 1.0 || ttc_window_min_px > kGlanceWidth)
     e << "distance.ttc_window_min_px must be in [1, " << kGlanceWidth << "]; ";
+  if (!Finite(ttc_warmup_m) || ttc_warmup_m < 0.0) e << "distance.ttc_warmup_m must be >= 0; ";
   if (!Finite(ttc_initial_baseline_m) || ttc_initial_baseline_m <= 0.0)
     e << "distance.ttc_initial_baseline_m must be positive; ";
   if (!Finite(ttc_min_contrast) || ttc_min_contrast < 0.0) e << "distance.ttc_min_contrast must be >= 0; ";

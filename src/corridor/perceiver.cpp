@@ -222,10 +222,13 @@ void Perceiver::PushHistory(const Glance& g) {
   history_count_ = std::min(history_count_ + 1, static_cast<int>(history_.size()));
 }
 
-PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_glance,
+PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_glance_in,
                                         std::optional<double> travelled_m, double dt_s,
                                         std::optional<double> turned_deg) {
   PerceptionResult result;
+  // Time to contact compares binomially smoothed glances (DistanceOptions::ttc_smooth).
+  if (options_.distance.ttc_smooth) SmoothGlance(ttc_glance_in, smoothed_ttc_glance_);
+  const Glance& ttc_glance = options_.distance.ttc_smooth ? smoothed_ttc_glance_ : ttc_glance_in;
   for (int i = 0; i < kHeadingCueCount; ++i) result.heading[i].cue = static_cast<HeadingCue>(i);
   for (int i = 0; i < kDistanceCueCount; ++i) result.distance[i].cue = static_cast<DistanceCue>(i);
 
@@ -287,20 +290,26 @@ PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_
 }
 
 std::optional<double> Perceiver::PushAndMedian(CueWindow& w, std::optional<double> input, bool travel_compensated) const {
-  const int n = options_.distance.median_frames;
+  // The ring holds the newest median_frames inputs (newest at w.head); the median takes the
+  // count written since the last reset, newest first.
+  const int kCap = options_.distance.median_frames;
   if (input) {
-    w.head = (w.head + 1) % n;
+    w.head = (w.head + 1) % kCap;
     w.input[w.head] = *input;
     w.travel_m[w.head] = travel_m_;
-    w.count = std::min(w.count + 1, n);
+    w.count = std::min(w.count + 1, kCap);
   }
   if (w.count == 0) return std::nullopt;
   std::array<double, kMaxDistanceMedianFrames> v{};
-  for (int k = 0; k < w.count; ++k) v[k] = travel_compensated ? w.input[k] - (travel_m_ - w.travel_m[k]) : w.input[k];
-  const int mid = w.count / 2;
-  std::nth_element(v.begin(), v.begin() + mid, v.begin() + w.count);
+  int n = 0;
+  for (int k = 0; k < w.count; ++k) {
+    const int idx = ((w.head - k) % kCap + kCap) % kCap;
+    v[n++] = travel_compensated ? w.input[idx] - (travel_m_ - w.travel_m[idx]) : w.input[idx];
+  }
+  const int mid = n / 2;
+  std::nth_element(v.begin(), v.begin() + mid, v.begin() + n);
   double med = v[mid];
-  if (w.count % 2 == 0) med = 0.5 * (med + *std::max_element(v.begin(), v.begin() + mid));
+  if (n % 2 == 0) med = 0.5 * (med + *std::max_element(v.begin(), v.begin() + mid));
   return med;
 }
 
@@ -334,7 +343,18 @@ void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlanc
       const int idx = ((history_head_ - k + 1) % n_hist + n_hist) % n_hist;
       std::optional<double> s;
       if (travelled) s = travel_m_ - history_travel_m_[idx];
-      measure.MeasureScale(history_[idx], ttc_glance, k, s, last_ttc_input_m_, d);
+      // Warming up: until the history spans ttc_warmup_m of driving, no reading. The first
+      // one-frame baselines' expansion is within the search's noise and reads as a short
+      // distance, which then kept the baseline short (a trap: drive-3-00l read 1–2 m for its
+      // first 2 m of driving, 14 m from the end).
+      const double whole =
+          travel_m_ - history_travel_m_[((history_head_ - history_count_ + 1) % n_hist + n_hist) % n_hist];
+      if (travelled && whole < o.ttc_warmup_m - 1e-9) {
+        d.baseline_frames = k;
+        d.reason = history_[idx].pixels == ttc_glance.pixels ? Reason::kIdenticalFrames : Reason::kNoTravel;
+      } else {
+        measure.MeasureScale(history_[idx], ttc_glance, k, s, last_ttc_input_m_, d);
+      }
     } else if (ttc && history_count_ > 0) {
       const auto& measure = static_cast<const TimeToContactDistance&>(*distance_measures_[i]);
       // The one-frame time to contact, median-filtered on its own: a reference for the

@@ -104,6 +104,46 @@ TEST(PerceiverDistance, ScaleSearchTracksAnApproachThroughGainJumps) {
   }
 }
 
+// Warming up: no time-to-contact reading until the history spans ttc_warmup_m of driving, then
+// readings; identical glances still say so. After a stop (restart) the median uses only the
+// readings since the restart (the ring is read newest first, never a slot left from before).
+TEST(PerceiverDistance, WarmUpAndRestartUseOnlyReadingsSinceTheStart) {
+  CorridorOptions o = DistanceOnly();
+  o.distance.ttc_warmup_m = 0.5;
+  Perceiver perceiver(o, std::nullopt);
+  const double step = 0.05;
+  for (int i = 0; i <= 30; ++i) {
+    const double z = 12.0 - step * i;
+    const PerceptionResult r = perceiver.ProcessGlance(PlaneAt(z), i == 0 ? std::nullopt : std::optional(step), 0.1);
+    const DistanceMeasureResult& d = r.Distance(DistanceCue::kTimeToContact);
+    if (i == 0) continue;
+    if (i * step < 0.5 - 1e-9) {
+      EXPECT_FALSE(d.instant_m.has_value()) << "frame " << i;
+      EXPECT_FALSE(r.dist_end_m.has_value()) << "frame " << i;
+      EXPECT_EQ(d.reason, Reason::kNoTravel) << "frame " << i;
+    } else {
+      ASSERT_TRUE(d.instant_m.has_value()) << "frame " << i << ": " << ReasonText(d.reason);
+      ASSERT_TRUE(r.dist_end_m.has_value()) << "frame " << i;
+      EXPECT_NEAR(*r.dist_end_m, z, 0.05 * z) << "frame " << i;
+    }
+  }
+  // Stop (no travel): the history restarts; the same glance again is "identical".
+  PerceptionResult r = perceiver.ProcessGlance(PlaneAt(10.5), 0.0, 0.1);
+  EXPECT_FALSE(r.dist_end_m.has_value());
+  // Drive on towards a plane now 6 m away (a new scene): after the warm-up the median holds
+  // only the new readings (one stale slot of the 12 m approach would be ~4 m off).
+  for (int i = 1; i <= 20; ++i) {
+    const double z = 6.0 - step * i;
+    r = perceiver.ProcessGlance(PlaneAt(z, 6.0), step, 0.1);
+    if (i * step < 0.5 - 1e-9) {
+      EXPECT_FALSE(r.dist_end_m.has_value()) << "restart frame " << i;
+      continue;
+    }
+    ASSERT_TRUE(r.dist_end_m.has_value()) << "restart frame " << i;
+    EXPECT_NEAR(*r.dist_end_m, z, 0.05 * z) << "restart frame " << i;
+  }
+}
+
 TEST(PerceiverDistance, FusionWeightFallsWithTheCueErrorGrowth) {
   // Two cues at different distances: with growth the nearer estimate weighs more.
   CorridorOptions o = DistanceOnly();

@@ -270,6 +270,31 @@ TEST(TimeToContact, ScaleSearchGivesTheCurrentDistanceAndRefusesPlainWalls) {
   EXPECT_EQ(r.reason, Reason::kNoTravel);
 }
 
+// The binomial smoothing before the scale search: a constant stays, an impulse spreads as
+// [1 2 1] ⊗ [1 2 1] / 16 (rounded), a border impulse has its outside neighbours folded back.
+TEST(SmoothGlance, KnownAnswers) {
+  Glance flat, out;
+  flat.pixels.fill(77);
+  SmoothGlance(flat, out);
+  for (auto p : out.pixels) EXPECT_EQ(p, 77);
+  Glance impulse;
+  impulse.At(10, 10) = 160;
+  SmoothGlance(impulse, out);
+  EXPECT_EQ(out.At(10, 10), 40);  // 160 · 4/16
+  EXPECT_EQ(out.At(9, 10), 20);   // 160 · 2/16
+  EXPECT_EQ(out.At(10, 11), 20);
+  EXPECT_EQ(out.At(11, 11), 10);  // 160 · 1/16
+  EXPECT_EQ(out.At(12, 10), 0);
+  int sum = 0;
+  for (auto p : out.pixels) sum += p;
+  EXPECT_EQ(sum, 160);
+  Glance corner;
+  corner.At(0, 0) = 160;
+  SmoothGlance(corner, out);
+  EXPECT_EQ(out.At(0, 0), 90);  // (2+1)(2+1) / 16 · 160 (the edge pixel repeated)
+  EXPECT_EQ(out.At(1, 0), 30);  // 1 · (2+1) / 16 · 160
+}
+
 TEST(DistanceMeasures, ValidityWindowPerCue) {
   DistanceOptions options;
   options.alpha2 = 1.0;

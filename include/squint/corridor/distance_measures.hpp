@@ -44,6 +44,10 @@ std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& cu
                                          std::optional<double> initial_scale = std::nullopt,
                                          double accept_ncc = 1.0);
 
+// 3×3 binomial smoothing ([1 2 1] ⊗ [1 2 1] / 16, rounded; border pixels repeated). `in` and
+// `out` may not be the same glance.
+void SmoothGlance(const Glance& in, Glance& out);
+
 class DistanceMeasure {
  public:
   virtual ~DistanceMeasure() = default;

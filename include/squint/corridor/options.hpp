@@ -210,8 +210,25 @@ struct DistanceOptions {
   double ttc_max_scale = 1.5;
   double ttc_window_half_width_m = 1.5;
   double ttc_window_height_factor = 1.0;
-  double ttc_window_min_px = 3.0;
+  // The window is at least ±ttc_window_min_px columns and ±ttc_window_min_height_px rows (and
+  // that before a first estimate; ttc_whole_glance_first: the whole glance then). Far away the
+  // end wall alone is a few pixels of little texture at 32×24, and the estimate from it
+  // saturated at 4–5 m (calibration drives drive-3-00*, per-frame median at 10 m ≈ 5 m, session
+  // 3's 3 × 2 px minimum); a window of at least ±11 × ±8 keeps the corridor's converging edges,
+  // floor and ceiling near the end, whose magnification tracked the distance to ~12 m there.
+  double ttc_window_min_px = 11.0;
+  double ttc_window_min_height_px = 8.0;
+  bool ttc_whole_glance_first = true;
+  // Both glances are smoothed by a 3×3 binomial filter before the scale search: the bilinear
+  // magnification of the earlier glance smooths it, and the unsmoothed current glance then
+  // matches best at a magnification too large (a distance too short far away).
+  bool ttc_smooth = true;
   double ttc_initial_baseline_m = 0.4;
+  // The scale search gives no reading until the glance history spans this much driving (after
+  // a start or a stop): the first one-frame baselines read noise as a short distance, which
+  // then kept the baseline short (0.5 chosen on the calibration drives drive-3-00*: 0.3 / 0.5 /
+  // 1.0 m gave fused 3.95 / 3.72 / 3.89 m RMSE at 5–15 m there). 0 = none.
+  double ttc_warmup_m = 0.5;
   // The scale search gives no estimate where the window's grey-level standard deviation is
   // below ttc_min_contrast or the best NCC below ttc_min_ncc.
   double ttc_min_contrast = 2.0;

@@ -154,6 +154,7 @@ class Perceiver {
   std::optional<double> PushAndMedian(CueWindow& w, std::optional<double> input, bool travel_compensated) const;
   std::optional<double> last_ttc_input_m_;  // the last filtered time-to-contact input
   Glance area_glance_{};                    // Process()'s area-averaged glance for time to contact
+  Glance smoothed_ttc_glance_{};            // the time-to-contact glance smoothed (ttc_smooth)
   CorridorKalman heading_filter_;           // heading half only (HeadingOptions::filter)
 };
 
