@@ -54,8 +54,9 @@ ObstacleMemory::Cell& ObstacleMemory::At(const Eigen::Vector2d& p) {
 void ObstacleMemory::Insert(const Eigen::Vector2d& p, const Eigen::Vector2d& from, double stamp_s) {
   Cell& c = At(p);
   if (c.stamp_s >= 0.0 && !c.soft && stamp_s - c.stamp_s <= options_.keep_seconds) {
-    // Seen again in the same cell: one more scan; confirmed once enough scans from far enough apart.
-    ++c.scans;
+    // Seen again in the same cell by a later scan: one more scan; confirmed once enough scans
+    // from far enough apart (neighbouring columns of one scan may share a cell: counted once).
+    if (stamp_s > c.stamp_s) ++c.scans;
     if (options_.confirm_scans > 0 && c.scans >= options_.confirm_scans &&
         (from - c.first_from).norm() >= options_.confirm_baseline_m)
       c.confirmed = true;

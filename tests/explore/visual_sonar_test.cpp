@@ -297,36 +297,32 @@ TEST(ObstacleMemory, FloorSeenLaterClearsAStaleBoundary) {
 }
 
 TEST(ObstacleMemory, WallSeenFromSeveralPositionsSurvivesAReflectionOfFloorBeyondIt) {
-  // A scripted walk toward a mirror wall at x = 4: its base is seen from x = 0, 0.2, 0.4 m
-  // (the same cells each time), then, nearer, the mirror shows the floor continuing to 6 m.
+  // A scripted walk toward a mirror wall at x = 4: its base is seen from x = 0, 0.2, ..., 1.4 m
+  // (8 scans, the same cells each time), then, nearer, the mirror shows the floor continuing to 6 m.
   const CameraModel cam = SonarCamera();
+  const ObstacleMemoryOptions defaults;
+  ASSERT_EQ(defaults.confirm_scans, 0);  // off by default (see the header)
+  ASSERT_EQ(defaults.confirm_baseline_m, 1.0);
   const double radius = 0.35;
-  ObstacleMemory mem;
-  for (int i = 0; i < 3; ++i) {
-    const double x = 0.2 * i;
-    mem.Update(WallScan(cam, 4.0 - x), Pose2{x, 0.0, 0.0}, 0.1 * i, 1.2);
-  }
-  const Pose2 near{1.5, 0.0, 0.0};
-  mem.Update(WallScan(cam, 6.0), near, 1.0, 1.2);
-  mem.Gather(near, 1.0);
-  EXPECT_NEAR(mem.FreeTravel(near, 0.0, radius, 5.0), 2.5 - radius, 0.02);  // the wall stays
-  // Seen from one place only (or with confirmation off), the later floor removes it.
-  for (int confirm : {3, 0}) {
-    ObstacleMemoryOptions o;
-    o.confirm_scans = confirm;
-    ObstacleMemory once(o);
-    const int scans = confirm == 0 ? 3 : 1;
-    for (int i = 0; i < scans; ++i) once.Update(WallScan(cam, 4.0 - 0.2 * i), Pose2{0.2 * i, 0.0, 0.0}, 0.1 * i, 1.2);
-    once.Update(WallScan(cam, 6.0), near, 1.0, 1.2);
-    once.Gather(near, 1.0);
-    EXPECT_EQ(once.FreeTravel(near, 0.0, radius, 5.0), 5.0) << "confirm_scans " << confirm;
-  }
-  // Three scans from one position are not a baseline: not confirmed.
-  ObstacleMemory still;
-  for (int i = 0; i < 3; ++i) still.Update(WallScan(cam, 4.0), Pose2{}, 0.1 * i, 1.2);
-  still.Update(WallScan(cam, 6.0), near, 1.0, 1.2);
-  still.Gather(near, 1.0);
-  EXPECT_EQ(still.FreeTravel(near, 0.0, radius, 5.0), 5.0);
+  const Pose2 near{2.0, 0.0, 0.0};
+  auto walk = [&](ObstacleMemory& mem, int scans, double spacing) {
+    for (int i = 0; i < scans; ++i) mem.Update(WallScan(cam, 4.0 - spacing * i), Pose2{spacing * i, 0.0, 0.0}, 0.1 * i, 1.2);
+    mem.Update(WallScan(cam, 6.0), near, 1.0, 1.2);
+    mem.Gather(near, 1.0);
+    return mem.FreeTravel(near, 0.0, radius, 5.0);
+  };
+  ObstacleMemoryOptions on;
+  on.confirm_scans = 8;
+  ObstacleMemory mem(on);
+  EXPECT_NEAR(walk(mem, 8, 0.2), 2.0 - radius, 0.02);  // the wall stays
+  // Seen by fewer scans, or with confirmation off, the later floor removes it.
+  ObstacleMemory few(on);
+  EXPECT_EQ(walk(few, 7, 0.2), 5.0);
+  ObstacleMemory unconfirmed(defaults);
+  EXPECT_EQ(walk(unconfirmed, 8, 0.2), 5.0);
+  // Eight scans from (nearly) one position are not a baseline: not confirmed.
+  ObstacleMemory still(on);
+  EXPECT_EQ(walk(still, 8, 0.1), 5.0);
 }
 
 TEST(ObstacleMemory, BlockedNearStopsForwardTravelUnlessTheFloorThereWasSeen) {

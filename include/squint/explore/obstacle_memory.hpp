@@ -35,9 +35,11 @@ struct ObstacleMemoryOptions {
   // A boundary seen again at the same place (cell) by this many scans, from positions at least
   // confirm_baseline_m apart, is confirmed: floor seen beyond it later no longer removes it (only
   // age does). Something standing stays where it is as the robot moves; what contradicts it is
-  // a reflection (a mirror shows the floor continuing behind its base). 0 turns it off.
-  int confirm_scans = 3;
-  double confirm_baseline_m = 0.3;
+  // a reflection (a mirror shows the floor continuing behind its base). 0 turns it off: the
+  // default, because floor texture seen consistently from afar gets confirmed as well (default
+  // world, 45 min: coverage 0.85 -> 0.12 with 3 scans / 0.3 m, the robot penned in by such points).
+  int confirm_scans = 0;
+  double confirm_baseline_m = 1.0;
   std::string Validate() const;
 };
 
