@@ -65,6 +65,7 @@ std::string ExploreRunOptions::Validate() const {
   if (ipt_width < 32 || ipt_width > 1280 || ipt_height < 24 || ipt_height > 960) return "ipt size must be within 32x24..1280x960";
   if (!(ipt_min_baseline_m >= 0.0 && ipt_min_baseline_m <= 1.0)) return "ipt_min_baseline_m must be in [0, 1]";
   if (!(ipt_max_pair_s > 0.0 && ipt_max_pair_s <= 10.0)) return "ipt_max_pair_s must be in (0, 10]";
+  if (!(ipt_roi_beyond_view_m >= 0.0 && ipt_roi_beyond_view_m <= 10.0)) return "ipt_roi_beyond_view_m must be in [0, 10]";
   if (ipt_bottom_margin_px < 0 || ipt_bottom_margin_px > 20) return "ipt_bottom_margin_px must be in [0, 20]";
   if (ipt_supersample < 1 || ipt_supersample > 8) return "ipt_supersample must be in [1, 8]";
   if (std::string e = ipt.Validate(); !e.empty()) return "ipt." + e;
@@ -145,7 +146,13 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
     obstacles::AvoidOptions avoid = options.avoid;
     avoid.gap.robot_radius_m = world.robot.radius_m;
     avoider.emplace(ipt_camera, avoid);
-    polar.emplace(ipt_camera, avoid.polar);
+    // The region of interest reaches ipt_roi_beyond_view_m beyond the nearest floor in view (a
+    // camera pitched only a little down, like the default world's, sees no floor nearer than
+    // ≈ 1.2 m: a 1.5 m ROI would hold an obstacle's foot for a single pair).
+    obstacles::PolarMapOptions polar_options = avoid.polar;
+    if (const auto near = ipt_camera.FloorPoint({0.5 * ipt_camera.width, ipt_camera.height - 1.0}))
+      polar_options.roi_radius_m = std::max(polar_options.roi_radius_m, near->norm() + options.ipt_roi_beyond_view_m);
+    polar.emplace(ipt_camera, polar_options);
     avoid_gap = avoid.gap;
     kept_contacts.reserve(256);
     gaps.reserve(64);

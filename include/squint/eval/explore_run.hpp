@@ -62,6 +62,9 @@ struct ExploreRunOptions {
   // show no foot in view: in the simulator's tiled floors they are mostly floor joints running
   // straight ahead below a far obstacle feature. Dropped from the polar map by default (what is
   // that near was seen farther away first, and the visual sonar guards the near range).
+  // The polar map's region of interest: avoid.polar.roi_radius_m, or the nearest floor in view
+  // (bottom row) plus ipt_roi_beyond_view_m when that is farther.
+  double ipt_roi_beyond_view_m = 1.0;
   bool ipt_drop_bottom_contacts = true;
   int ipt_bottom_margin_px = 1;
   obstacles::IptOptions ipt = LoopIptOptions();
