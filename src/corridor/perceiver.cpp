@@ -343,13 +343,13 @@ void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlanc
       const int idx = ((history_head_ - k + 1) % n_hist + n_hist) % n_hist;
       std::optional<double> s;
       if (travelled) s = travel_m_ - history_travel_m_[idx];
-      // Warming up: until the history spans ttc_warmup_m of driving, no reading. The first
+      // Warming up: until the history spans ttc_warmup_m of driving (or is full), no reading. The first
       // one-frame baselines' expansion is within the search's noise and reads as a short
       // distance, which then kept the baseline short (a trap: drive-3-00l read 1–2 m for its
       // first 2 m of driving, 14 m from the end).
       const double whole =
           travel_m_ - history_travel_m_[((history_head_ - history_count_ + 1) % n_hist + n_hist) % n_hist];
-      if (travelled && whole < o.ttc_warmup_m - 1e-9) {
+      if (travelled && whole < o.ttc_warmup_m - 1e-9 && history_count_ < n_hist) {
         d.baseline_frames = k;
         d.reason = history_[idx].pixels == ttc_glance.pixels ? Reason::kIdenticalFrames : Reason::kNoTravel;
       } else {

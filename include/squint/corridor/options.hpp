@@ -224,8 +224,8 @@ struct DistanceOptions {
   // matches best at a magnification too large (a distance too short far away).
   bool ttc_smooth = true;
   double ttc_initial_baseline_m = 0.4;
-  // The scale search gives no reading until the glance history spans this much driving (after
-  // a start or a stop): the first one-frame baselines read noise as a short distance, which
+  // The scale search gives no reading until the glance history spans this much driving or is
+  // full (kMaxTtcBaselineFrames + 1 glances), after a start or a stop: the first one-frame baselines read noise as a short distance, which
   // then kept the baseline short (0.5 chosen on the calibration drives drive-3-00*: 0.3 / 0.5 /
   // 1.0 m gave fused 3.95 / 3.72 / 3.89 m RMSE at 5–15 m there). 0 = none.
   double ttc_warmup_m = 0.5;
