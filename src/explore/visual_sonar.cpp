@@ -23,6 +23,7 @@ std::string VisualSonarOptions::Validate() const {
   if (!(floor_edge_max_ratio >= 0.0) || !std::isfinite(floor_edge_max_ratio)) return "floor_edge_max_ratio must be >= 0";
   if (floor_edge_max_ratio > 0.0 && !(floor_edge_min_ratio > 1.0 && floor_edge_min_ratio <= floor_edge_max_ratio))
     return "floor_edge_min_ratio must be in (1, floor_edge_max_ratio]";
+  if (!(floor_edge_min_range_m >= 0.0) || !std::isfinite(floor_edge_min_range_m)) return "floor_edge_min_range_m must be >= 0";
   if (floor_edge_min_rows < 1 || floor_edge_min_rows > 16) return "floor_edge_min_rows must be in [1, 16]";
   if (min_reference_columns < 1 || min_reference_columns > 640) return "min_reference_columns must be in [1, 640]";
   return {};
@@ -139,7 +140,7 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
       if (second >= 0 && found - second >= options_.floor_edge_min_rows) {
         const double r1 = range_[static_cast<std::size_t>(found * w + u)];
         const double r2 = range_[static_cast<std::size_t>(second * w + u)];
-        if (std::isfinite(r1) && std::isfinite(r2) && r1 < options_.max_range_m && r2 < options_.max_range_m &&
+        if (std::isfinite(r1) && std::isfinite(r2) && r1 >= options_.floor_edge_min_range_m && r1 < options_.max_range_m && r2 < options_.max_range_m &&
             r2 >= options_.floor_edge_min_ratio * r1 && r2 <= options_.floor_edge_max_ratio * r1) {
           edge_[static_cast<std::size_t>(u)] = r1;
           found = second;

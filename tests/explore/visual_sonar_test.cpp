@@ -142,13 +142,15 @@ TEST(VisualSonar, CarpetEdgeAtKnownRangeIsFloorAndTheWallBeyondIsTheBoundary) {
   for (int u = 4; u < 60; ++u) EXPECT_NEAR(out2[static_cast<std::size_t>(u)].range_m * std::cos(out2[static_cast<std::size_t>(u)].bearing_rad), 2.0, 0.12);
 }
 
-TEST(VisualSonar, WallBaseAndLowObstacleAtKnownRangeStayStanding) {
+TEST(VisualSonar, WallBaseLowObstacleAndNearFloorEdgeStayStanding) {
   const CameraModel cam = SonarCamera();
   VisualSonar sonar(cam);
   // (a) A wall at 2.0 m rising through the horizon, with a grey band from 0.02 to 0.10 m (a
   // skirting board: its top edge lies at 1.2 × the base range as floor) and a dark dado band from
   // 0.45 m up (above the camera: 0.6 m, at 4 × the base range as floor).
-  // (b) A bin 0.45 m high at 1.6 m, in front of a far wall at 5.5 m.
+  // (b) A box 0.40 m high at 1.9 m with floor beyond (its top edge lies at 3 × its range as
+  // floor: above floor_edge_max_ratio). (c) A carpet edge nearer than floor_edge_min_range_m
+  // (1.5 m, carpet to a wall at 2.6 m) is, conservatively, read as standing.
   struct Case {
     const char* name;
     std::vector<std::array<double, 3>> bands;
@@ -157,7 +159,8 @@ TEST(VisualSonar, WallBaseAndLowObstacleAtKnownRangeStayStanding) {
   const std::vector<Case> cases = {
       {"skirted wall", {{2.0, 0.0, 90.0}, {2.0, 0.10, 130.0}, {2.0, 0.45, 60.0}}, 2.0},
       {"plain wall", {{2.0, 0.0, 120.0}}, 2.0},
-      {"bin before a far wall", {{1.6, 0.0, 90.0}, {1.6, 0.45, 180.0}, {5.5, 0.0, 120.0}}, 1.6},
+      {"low box", {{1.9, 0.0, 90.0}, {1.9, 0.40, 180.0}}, 1.9},
+      {"near carpet edge", {{1.5, 0.0, 110.0}, {2.6, 0.0, 160.0}}, 1.5},
   };
   for (const Case& k : cases) {
     const auto& out = sonar.Process(Bands(cam, k.bands).View());

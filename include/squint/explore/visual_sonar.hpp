@@ -36,6 +36,9 @@ struct VisualSonarOptions {
   double floor_edge_min_ratio = 1.25;
   double floor_edge_max_ratio = 2.5;
   int floor_edge_min_rows = 2;
+  // Only steps at least this far (metres) may be floor edges: nearer, a wall misread would be hit
+  // before the robot sees it again (corridor-7's walls, lit in pools, near the floor's grey).
+  double floor_edge_min_range_m = 1.8;
   std::string Validate() const;  // empty when valid
 };
 
