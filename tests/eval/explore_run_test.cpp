@@ -113,7 +113,7 @@ TEST(ExploreRun, ObstaclePipelineSeesTheBoxAcrossThePathAndTheRobotPassesIt) {
   ExploreRunOptions opt;
   opt.minutes = 0.5;
   opt.keep_trace = false;
-  ASSERT_TRUE(opt.obstacle_pipeline);  // on by default
+  opt.obstacle_pipeline = true;  // off by default
   for (bool sonar : {true, false}) {
     opt.visual_sonar = sonar;
     const ExploreRunResult run = RunExplore(boxed, opt);
@@ -130,8 +130,17 @@ TEST(ExploreRun, ObstaclePipelineSeesTheBoxAcrossThePathAndTheRobotPassesIt) {
     EXPECT_GT(s.ipt_cpu_seconds, 0.0);
     EXPECT_LE(s.ipt_cpu_seconds, s.perception_cpu_seconds);
   }
-  // Off: no pairs, no override.
+  // Deterministic with the pipeline on: the same run twice.
   opt.visual_sonar = true;
+  opt.minutes = 0.2;
+  const ExploreRunResult a = RunExplore(boxed, opt);
+  const ExploreRunResult b = RunExplore(boxed, opt);
+  EXPECT_EQ(a.true_path.back().x, b.true_path.back().x);
+  EXPECT_EQ(a.true_path.back().yaw, b.true_path.back().yaw);
+  EXPECT_EQ(a.summary.ipt_classified, b.summary.ipt_classified);
+  EXPECT_EQ(a.summary.outcome, b.summary.outcome);
+  // Off: no pairs, no override.
+  opt.minutes = 0.5;
   opt.obstacle_pipeline = false;
   const ExploreRunResult off = RunExplore(boxed, opt);
   EXPECT_EQ(off.summary.ipt_pairs, 0);
