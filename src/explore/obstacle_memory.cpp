@@ -137,10 +137,7 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
         break;
       case SonarReturn::kBoundary: {
         const double from = c.range_m >= options_.clear_blind_min_range_m ? 0.0 : near_blind_m;
-        // Across a floor edge the ray clears only up to the edge: the floor beyond it is a
-        // reading of one frame, not enough to erase what earlier scans saw standing there.
-        const double clear_to = c.floor_edge_m > 0.0 ? c.floor_edge_m : c.range_m;
-        ClearRay(o, yaw, from, clear_to - clear_margin, near_blind_m, stamp_s);
+        ClearRay(o, yaw, from, c.range_m - clear_margin, near_blind_m, stamp_s);
         Insert(o + c.range_m * d, o, stamp_s);
         break;
       }
