@@ -2,42 +2,80 @@
 #include "squint/corridor/prepared_glance.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <utility>
 #include <cstring>
 
 #include "squint/corridor/information.hpp"
 
 namespace squint::corridor {
 
+namespace {
+
+// Counts grey levels >> shift into four interleaved partial histograms (stride `bins`): an
+// increment that follows one to the same counter waits for its store, and neighbouring glance
+// pixels often share a bin. A compile-time shift keeps the loop to loads and increments.
+template <int kShift>
+void CountLevels(const std::uint8_t* p, int bins, std::uint16_t* part) {
+  std::uint16_t* p0 = part;
+  std::uint16_t* p1 = p0 + bins;
+  std::uint16_t* p2 = p1 + bins;
+  std::uint16_t* p3 = p2 + bins;
+  for (int i = 0; i < kGlancePixels; i += 4) {
+    ++p0[p[i] >> kShift];
+    ++p1[p[i + 1] >> kShift];
+    ++p2[p[i + 2] >> kShift];
+    ++p3[p[i + 3] >> kShift];
+  }
+}
+
+template <int... kShifts>
+void CountLevelsDispatch(int shift, const std::uint8_t* p, int bins, std::uint16_t* part,
+                         std::integer_sequence<int, kShifts...>) {
+  ((shift == kShifts ? (CountLevels<kShifts>(p, bins, part), true) : false) || ...);
+}
+
+}  // namespace
+
 void ComputeHistogramAndEntropy(const Glance& glance, int image_bits, PreparedGlance& out) {
   out.glance = glance;
   const int shift = 8 - image_bits;
   out.image_bins = 1 << image_bits;
   const int bins = out.image_bins;
-  // Four interleaved partial histograms avoid store-to-load stalls on repeated bins; 16-bit counts
-  // (at most 768), packed with stride `bins` so that only the used part is cleared.
-  static_assert(kGlancePixels <= 65535);
+  // 16-bit counts (at most 768), packed with stride `bins` so that only the used part is cleared.
+  static_assert(kGlancePixels <= 65535 && kGlancePixels % 4 == 0);
   std::uint16_t part[4 * kMaxImageBins];
   std::memset(part, 0, sizeof(std::uint16_t) * 4 * static_cast<std::size_t>(bins));
-  std::uint16_t* p0 = part;
-  std::uint16_t* p1 = p0 + bins;
-  std::uint16_t* p2 = p1 + bins;
-  std::uint16_t* p3 = p2 + bins;
-  std::uint8_t lo = 255, hi = 0;
   const std::uint8_t* p = glance.pixels.data();
-  for (int i = 0; i < kGlancePixels; i += 4) {
-    ++p0[p[i] >> shift];
-    ++p1[p[i + 1] >> shift];
-    ++p2[p[i + 2] >> shift];
-    ++p3[p[i + 3] >> shift];
-  }
+  CountLevelsDispatch(shift, p, bins, part, std::make_integer_sequence<int, 8>{});
+  std::uint8_t lo = 255, hi = 0;
   for (int i = 0; i < kGlancePixels; ++i) {
     lo = std::min(lo, p[i]);
     hi = std::max(hi, p[i]);
   }
+  const std::uint16_t* p0 = part;
+  const std::uint16_t* p1 = p0 + bins;
+  const std::uint16_t* p2 = p1 + bins;
+  const std::uint16_t* p3 = p2 + bins;
   for (int b = 0; b < bins; ++b) out.histogram[b] = static_cast<std::uint32_t>(p0[b] + p1[b] + p2[b] + p3[b]);
   out.min_level = lo;
   out.max_level = hi;
-  out.entropy = EntropyFromCounts(out.histogram.data(), out.image_bins, kGlancePixels);
+  // Entropy (nats) = log N − Σ c log c / N, the sum in four chains (a single chain of dependent
+  // additions is latency-bound).
+  const double* nlogn = NLogNTable();
+  static_assert(kGlancePixels < kNLogNTableSize);
+  double s[4] = {0.0, 0.0, 0.0, 0.0};
+  int b = 0;
+  for (; b + 4 <= bins; b += 4) {
+    s[0] += nlogn[out.histogram[b]];
+    s[1] += nlogn[out.histogram[b + 1]];
+    s[2] += nlogn[out.histogram[b + 2]];
+    s[3] += nlogn[out.histogram[b + 3]];
+  }
+  for (; b < bins; ++b) s[0] += nlogn[out.histogram[b]];
+  static const double kLogPixels = std::log(static_cast<double>(kGlancePixels));
+  const double h = kLogPixels - ((s[0] + s[1]) + (s[2] + s[3])) / kGlancePixels;
+  out.entropy = h > 0.0 ? h : 0.0;  // rounding can give -1e-16 for a single full bin
   out.valid = true;
 }
 

@@ -1,5 +1,6 @@
 // Entropy, mutual information and Jeffrey divergence against values computed by hand.
 #include "squint/corridor/information.hpp"
+#include "squint/corridor/prepared_glance.hpp"
 
 #include <gtest/gtest.h>
 
@@ -85,6 +86,38 @@ TEST(NLogN, TableMatchesDirectComputation) {
     const double expected = n == 0 ? 0.0 : n * std::log(static_cast<double>(n));
     EXPECT_NEAR(NLogN(n), expected, 1e-9 * std::max(1.0, expected)) << n;
   }
+}
+
+TEST(WholeGlanceHistogram, EntropyAndCountsAtEveryBitDepth) {
+  // Grey levels 0, 64, 128, 192 on 1/2, 1/4, 1/8, 1/8 of the pixels: at 2 or more bits they are
+  // four bins, entropy 1.75 log 2; at 1 bit, two bins of 3/4 and 1/4.
+  Glance g;
+  for (int i = 0; i < kGlancePixels; ++i) {
+    const int k = i % 8;
+    g.pixels[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(k < 4 ? 0 : k < 6 ? 64 : k < 7 ? 128 : 192);
+  }
+  for (int bits = 1; bits <= 8; ++bits) {
+    PreparedGlance out;
+    ComputeHistogramAndEntropy(g, bits, out);
+    ASSERT_EQ(out.image_bins, 1 << bits);
+    std::uint32_t total = 0;
+    for (int b = 0; b < out.image_bins; ++b) total += out.histogram[static_cast<std::size_t>(b)];
+    EXPECT_EQ(total, static_cast<std::uint32_t>(kGlancePixels)) << bits;
+    const double expected = bits == 1 ? -(0.75 * std::log(0.75) + 0.25 * std::log(0.25)) : 1.75 * std::log(2.0);
+    EXPECT_NEAR(out.entropy, expected, 1e-12) << bits;
+    EXPECT_EQ(out.histogram[0], static_cast<std::uint32_t>(bits == 1 ? 576 : 384)) << bits;
+    EXPECT_EQ(out.min_level, 0);
+    EXPECT_EQ(out.max_level, 192);
+    EXPECT_FALSE(out.Uniform());
+  }
+  // A uniform glance: one full bin, entropy exactly 0 (never -1e-16).
+  Glance flat;
+  flat.pixels.fill(77);
+  PreparedGlance out;
+  ComputeHistogramAndEntropy(flat, 6, out);
+  EXPECT_EQ(out.entropy, 0.0);
+  EXPECT_TRUE(out.Uniform());
+  EXPECT_EQ(out.histogram[77 >> 2], static_cast<std::uint32_t>(kGlancePixels));
 }
 
 }  // namespace
