@@ -1,6 +1,7 @@
 // The `squint` command line: gathers the registered subcommands and turns errors into one line.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <functional>
 #include <iostream>
@@ -56,6 +57,9 @@ void ProgressBar::Finish() {
 }  // namespace squint::app
 
 int main(int argc, char** argv) {
+  // FFmpeg's own messages about a video it cannot read would precede the one-line error; the
+  // user can still ask for them by setting the variable.
+  setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
   CLI::App app{"squint: indoor exploration and obstacle avoidance with one cheap forward camera"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "squint 0.1.0");

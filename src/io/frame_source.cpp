@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -84,12 +85,23 @@ class ImageFolderSource : public FrameSource {
 class VideoSource : public FrameSource {
  public:
   VideoSource(fs::path path, double default_rate) : path_(std::move(path)) {
-    if (!cap_.open(path_.string())) throw Error(path_.string() + ": cannot open video");
+    if (!OpenQuietly()) throw Error(path_.string() + ": cannot open video");
     const double fps = cap_.get(cv::CAP_PROP_FPS);
     rate_ = fps > 0.0 && std::isfinite(fps) ? fps : default_rate;
     const double n = cap_.get(cv::CAP_PROP_FRAME_COUNT);
     if (n > 0 && std::isfinite(n)) count_ = static_cast<std::size_t>(n);
   }
+  // FFmpeg first, then any other backend; their own complaints about a file they cannot open
+  // (several lines each) are silenced, since the caller reports the failure in one line.
+  bool OpenQuietly() {
+    namespace logging = cv::utils::logging;
+    const logging::LogLevel level = logging::getLogLevel();
+    logging::setLogLevel(logging::LOG_LEVEL_SILENT);
+    const bool ok = cap_.open(path_.string(), cv::CAP_FFMPEG) || cap_.open(path_.string(), cv::CAP_ANY);
+    logging::setLogLevel(level);
+    return ok;
+  }
+
   std::optional<Frame> Next() override {
     cv::Mat img;
     if (!cap_.read(img) || img.empty()) return std::nullopt;
@@ -119,6 +131,9 @@ std::unique_ptr<FrameSource> OpenFrameSource(const fs::path& input, const FrameS
   if (!fs::exists(input)) throw Error(input.string() + ": no such file or folder");
   if (fs::is_directory(input)) {
     if (fs::exists(input / "sequence.yaml")) return std::make_unique<SequenceSource>(Sequence::Read(input));
+    // A sequence folder without its camera file is a broken sequence, not an image folder.
+    if (fs::exists(input / "frames.csv"))
+      throw Error((input / "sequence.yaml").string() + ": missing (the folder has frames.csv, so it is a sequence)");
     return std::make_unique<ImageFolderSource>(input, options.default_frame_rate_hz);
   }
   return std::make_unique<VideoSource>(input, options.default_frame_rate_hz);

@@ -259,6 +259,14 @@ TEST(FrameSource, ImageFolderVideoAndSequence) {
   auto ss = OpenFrameSource(seq);
   ASSERT_TRUE(ss->Camera().has_value());
   EXPECT_EQ(*ss->Count(), 3u);
+  // A sequence folder that lost its sequence.yaml is named as such (not read as an image folder).
+  fs::remove(seq / "sequence.yaml");
+  try {
+    (void)OpenFrameSource(seq);
+    ADD_FAILURE() << "a sequence without sequence.yaml was opened";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("sequence.yaml: missing"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
