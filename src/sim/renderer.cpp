@@ -144,10 +144,15 @@ struct Renderer::Impl {
   // What WallDistance needs of each wall, compact: its extent widened by 1e-7, and per frame the
   // camera's offset from its plane (coord - py or coord - px).
   struct WallFast {
-    double lo = 0, hi = 0, coord = 0, off = 0;
+    double lo = kInf, hi = -kInf, coord = 0, off = 0;
+    double base = 0;  // per frame: the camera's coordinate along the wall (px or py)
+    double sx = 0, sy = 0;  // the ray component across the wall: sx * dx + sy * dy (dy for walls along x)
     bool along_x = true;
+    int material = 0;
+    bool decals = false;  // any decal on it
   };
-  std::vector<WallFast> wall_fast;
+  std::vector<WallFast> wall_fast;  // [0] a sentinel that no ray meets (wall index -1), then the walls
+  const WallFast* wf = nullptr;      // &wall_fast[1]
   std::vector<WallLight> wall_light;
   std::vector<float> wall_irr;
   std::vector<int> decal_begin, decal_end;  // per wall, into `decals`
@@ -167,6 +172,10 @@ struct Renderer::Impl {
   std::vector<int> col_bin_lo, col_bin_hi;  // per pixel column: bearing bins its rays may use
   Eigen::Matrix3d cam_R_robot = Eigen::Matrix3d::Identity();
   std::vector<SurfPt> corner_pt;     // per frame
+  // Per frame, per corner, compact (the once-shaded pixels' test reads only these): the plane and
+  // region keys (key1 << 32 | key2, bit 63 set for `exact`) and the texture coordinates.
+  std::vector<std::uint64_t> corner_cls;
+  std::vector<double> corner_tu, corner_tv;
   std::vector<double> corner_r;
   std::vector<std::uint8_t> mask;    // per pixel: kMaskGeometry | kMaskPattern
   std::vector<double> col_max_t;     // per pixel column: farthest wall over its bins
@@ -267,6 +276,9 @@ struct Renderer::Impl {
           }
       cam_R_robot = cam.RobotRotationCamera().transpose();
       corner_pt.resize(corners.size());
+      corner_cls.resize(corners.size());
+      corner_tu.resize(corners.size());
+      corner_tv.resize(corners.size());
       corner_r.resize(corners.size());
       mask.resize(static_cast<std::size_t>(cam.width) * cam.height);
       col_max_t.resize(cam.width);
@@ -316,8 +328,11 @@ struct Renderer::Impl {
       decal_end[decals[i].wall] = static_cast<int>(i) + 1;
     }
     for (const WallSegment& ws : world.walls) has_mirrors = has_mirrors || world.materials[ws.material].mirror > 0;
-    wall_fast.clear();
-    for (const WallSegment& ws : world.walls) wall_fast.push_back({ws.lo - 1e-7, ws.hi + 1e-7, ws.coord, 0.0, ws.along_x});
+    wall_fast.assign(1, WallFast{});
+    for (const WallSegment& ws : world.walls)
+      wall_fast.push_back({ws.lo - 1e-7, ws.hi + 1e-7, ws.coord, 0.0, 0.0, ws.along_x ? 0.0 : 1.0, ws.along_x ? 1.0 : 0.0, ws.along_x, ws.material, false});
+    for (std::size_t w = 0; w < world.walls.size(); ++w) wall_fast[w + 1].decals = decal_end[w] > decal_begin[w];
+    wf = wall_fast.data() + 1;
     for (const Decal& d : decals) has_mirrors = has_mirrors || world.materials[d.material].mirror > 0;
     body_r = world.robot.radius_m;
     body_top = cam.height_m + world.robot.body_above_camera_m;
@@ -484,7 +499,11 @@ struct Renderer::Impl {
     syaw = std::sin(pose.yaw);
     cam_h = camera.height_m;
     frame_ceiling = uniform_ceiling ? ceiling_h : std::max(cam_h + 0.01, world.CeilingAt({px, py}));
-    for (WallFast& f : wall_fast) f.off = f.coord - (f.along_x ? py : px);
+    for (std::size_t w = 1; w < wall_fast.size(); ++w) {
+      WallFast& f = wall_fast[w];
+      f.off = f.coord - (f.along_x ? py : px);
+      f.base = f.along_x ? px : py;
+    }
     if (has_mirrors) PrepareBodyLight();
     const double yaw0 = pose.yaw + a_min;
     // Walls into the bearing table.
@@ -636,21 +655,14 @@ struct Renderer::Impl {
   }
 
   // Horizontal distance along (dx, dy) from the camera to wall w; infinity when the ray misses it.
-  double WallDistance(int w, double dx, double dy) const {
-    if (w < 0) return kInf;
-    const WallFast& f = wall_fast[w];
-    double t, along;
-    if (f.along_x) {
-      if (dy == 0) return kInf;
-      t = f.off / dy;
-      along = px + t * dx;
-    } else {
-      if (dx == 0) return kInf;
-      t = f.off / dx;
-      along = py + t * dy;
-    }
-    if (t <= 0 || along < f.lo || along > f.hi) return kInf;
-    return t;
+  // Branch-free: a ray parallel to the wall gives 0/0 or an infinite t, which the tests reject,
+  // and w = -1 (no wall) reads the sentinel, whose empty extent rejects every ray.
+  [[gnu::always_inline]] double WallDistance(int w, double dx, double dy) const {
+    const WallFast& f = wf[w];
+    // (sx, sy) is (0, 1) or (1, 0): the products pick dx or dy exactly.
+    const double t = f.off / (f.sx * dx + f.sy * dy);
+    const double along = f.base + t * (f.sy * dx + f.sx * dy);
+    return (t > 0 && along >= f.lo && along <= f.hi) ? t : kInf;
   }
 
   // Obstacle o against the ray from (ox, oy, oz) (world) with horizontal direction (dx, dy) and
@@ -736,8 +748,8 @@ struct Renderer::Impl {
     dy = syaw * s.ca + cyaw * s.sa;
     Hit hit;
     const int w0 = edge_wall[s.bin], w1 = edge_wall[s.bin + 1];
-    double t0 = WallDistance(w0, dx, dy);
-    double t1 = w1 != w0 ? WallDistance(w1, dx, dy) : kInf;
+    const double t0 = WallDistance(w0, dx, dy);
+    const double t1 = WallDistance(w1, dx, dy);  // (w1 == w0: t1 == t0, and w0 is kept)
     if (t0 <= t1) {
       hit.r = t0, hit.id = w0;
     } else {
@@ -824,7 +836,7 @@ struct Renderer::Impl {
   // Mean of a piecewise-constant table over the box [a0, a1] × [b0, b1] in cell units (clamped to
   // the table, at least 1e-6 cells wide), from its summed-area table `sat` (row stride `stride`,
   // first index a): the integral image is bilinear within each cell.
-  static double SatBoxMean(const double* sat, std::size_t stride, int na, int nb, double a0, double a1, double b0, double b1) {
+  [[gnu::always_inline]] static double SatBoxMean(const double* sat, std::size_t stride, int na, int nb, double a0, double a1, double b0, double b1) {
     auto clamp_box = [](double& lo, double& hi, int n) {
       lo = std::clamp(lo, 0.0, static_cast<double>(n));
       hi = std::clamp(hi, 0.0, static_cast<double>(n));
@@ -845,14 +857,14 @@ struct Renderer::Impl {
     return (at(a1, b1) - at(a0, b1) - at(a1, b0) + at(a0, b0)) / ((a1 - a0) * (b1 - b0));
   }
   // Mean floor irradiance over [x0, x1] × [y0, y1] (world metres).
-  double FloorIrradianceMean(double x0, double x1, double y0, double y1) const {
+  [[gnu::always_inline]] double FloorIrradianceMean(double x0, double x1, double y0, double y1) const {
     const double s = 1.0 / kCell;
     return SatBoxMean(floor_sat.data(), static_cast<std::size_t>(gnx) + 1, gny, gnx, (y0 - gy0) * s, (y1 - gy0) * s,
                       (x0 - gx0) * s, (x1 - gx0) * s);
   }
   // Mean irradiance of wall w over [along0, along1] × [z0, z1] (its table's samples taken as
   // cells centred on them).
-  double WallIrradianceMean(int w, double along0, double along1, double z0, double z1) const {
+  [[gnu::always_inline]] double WallIrradianceMean(int w, double along0, double along1, double z0, double z1) const {
     const WallLight& wl = wall_light[w];
     const double s = 1.0 / kWallCell;
     return SatBoxMean(wall_sat.data() + wl.sat_offset, static_cast<std::size_t>(wl.nz) + 1, wl.nu, wl.nz,
@@ -1132,11 +1144,65 @@ struct Renderer::Impl {
 
   // Traces the pixel corners and marks the pixels that hold an edge no corner may see.
   void PrepareAdaptive() {
+    const double ceil_rel = frame_ceiling - cam_h;
     for (std::size_t i = 0; i < corners.size(); ++i) {
-      double dx, dy;
-      const Hit hit = Trace(corners[i], dx, dy);
-      corner_r[i] = hit.r;
-      corner_pt[i] = Describe(hit, px, py, cam_h, dx, dy, corners[i].k);
+      // Trace and Describe, written out for the common corner (a wall, floor or ceiling point
+      // in a bin without obstacles, on a plain region); any other corner takes them in full.
+      // A plain wall corner's `a` (its lit shade) is left 0: only regions' corners use it.
+      const Sample& cs = corners[i];
+      const double dx = cyaw * cs.ca - syaw * cs.sa, dy = syaw * cs.ca + cyaw * cs.sa;
+      const int w0 = edge_wall[cs.bin], w1 = edge_wall[cs.bin + 1];
+      const double t0 = WallDistance(w0, dx, dy), t1 = WallDistance(w1, dx, dy);
+      double r = t0 <= t1 ? t0 : t1;
+      const int id = t0 <= t1 ? w0 : w1;
+      SurfPt p;
+      bool done = false;
+      if (r != kInf && bin_count[cs.bin] == 0 && uniform_ceiling) {
+        Surf surf = Surf::kWall;
+        if (cs.k < 0 && cs.rk < r) {
+          surf = Surf::kFloor, r = cs.rk;
+        } else if (cs.k > 0) {
+          const double rc = ceil_rel * cs.rk;
+          if (rc < r) surf = Surf::kCeiling, r = rc;
+        }
+        const double x = px + dx * r, y = py + dy * r;
+        if (surf == Surf::kWall) {
+          const WallFast& f = wf[id];
+          if (!f.decals) {
+            const MatFast& m = mats[f.material];
+            p.key1 = static_cast<std::uint32_t>(Surf::kWall) << 24 | (static_cast<std::uint32_t>(id) & 0xFFFFFFu);
+            p.key2 = static_cast<std::uint32_t>(f.material) << 16;
+            p.mat = f.material, p.tu = f.along_x ? x : y, p.tv = cam_h + cs.k * r, p.exact = m.mirror > 0;
+            done = true;
+          }
+        } else {
+          const Cell& cell = cells[GridIndex(x, y)];
+          if (surf == Surf::kFloor && cell.flat == -1) {
+            const MatFast& m = mats[cell.floor_mat];
+            p.key1 = static_cast<std::uint32_t>(Surf::kFloor) << 24 | 0xFFFFFFu;
+            p.key2 = static_cast<std::uint32_t>(cell.floor_mat) << 16;
+            p.mat = cell.floor_mat, p.tu = x, p.tv = y, p.a = m.albedo * cell.irr, p.b = m.emission;
+            done = true;
+          } else if (surf == Surf::kCeiling && cell.light < 0) {
+            const MatFast& m = mats[cell.ceil_mat];
+            p.key1 = static_cast<std::uint32_t>(Surf::kCeiling) << 24 | 0xFFFFFFu;
+            p.key2 = static_cast<std::uint32_t>(cell.ceil_mat) << 16;
+            p.mat = cell.ceil_mat, p.tu = x, p.tv = y, p.a = m.albedo * (world.ambient + kCeilingBounce * cell.irr), p.b = m.emission;
+            done = true;
+          }
+        }
+      }
+      if (!done) {
+        double tdx, tdy;
+        const Hit hit = Trace(cs, tdx, tdy);
+        r = hit.r;
+        p = Describe(hit, px, py, cam_h, tdx, tdy, cs.k);
+      }
+      corner_r[i] = r;
+      corner_pt[i] = p;
+      corner_cls[i] = (static_cast<std::uint64_t>(p.key1) << 32 | p.key2) | (p.exact ? 1ull << 63 : 0);
+      corner_tu[i] = p.tu;
+      corner_tv[i] = p.tv;
     }
     for (int u = 0; u < camera.width; ++u) {
       double t = 0, near = kInf;
@@ -1332,44 +1398,73 @@ struct Renderer::Impl {
     const int depth = has_mirrors ? 0 : 1;
     double sum = 0;
     const Sample* s0 = s;
+    // The planes padded to four (a key no hit has), so that a lookup is four selects; pq[4]: none.
+    std::uint32_t kq[4];
+    bool pq[5];
+    for (int q = 0; q < 4; ++q) kq[q] = q < np ? keys[q] : 0xFFFFFFFFu, pq[q] = q < np && plain[q];
+    pq[4] = false;
+    const double ceil_rel = frame_ceiling - cam_h;
     for (int i = 0; i < nn; ++i, ++s) {
       const double dx = cyaw * s->ca - syaw * s->sa, dy = syaw * s->ca + cyaw * s->sa;
-      Hit hit;
+      double r;
+      int id;
+      Surf surf;
       if (by_bins) {
         const int w0 = edge_wall[s->bin], w1 = edge_wall[s->bin + 1];
-        hit.r = WallDistance(w0, dx, dy), hit.id = w0;
-        if (w1 != w0) {
-          const double t1 = WallDistance(w1, dx, dy);
-          if (t1 < hit.r) hit.r = t1, hit.id = w1;
-        }
-        if (hit.r == kInf) {  // a sliver wall inside the bin: trace this sample
+        const double t0 = WallDistance(w0, dx, dy), t1 = WallDistance(w1, dx, dy);
+        r = t0 <= t1 ? t0 : t1;
+        id = t0 <= t1 ? w0 : w1;
+        if (r == kInf) {  // a sliver wall inside the bin: trace this sample
           double tx, ty;
           sum += Shade(Trace(*s, tx, ty), px, py, cam_h, dx, dy, s->k, depth);
           continue;
         }
-        hit.surf = Surf::kWall;
-        if (s->k < 0 && s->rk < hit.r) {
-          hit.surf = Surf::kFloor, hit.r = s->rk;
-        } else if (s->k > 0 && (frame_ceiling - cam_h) * s->rk < hit.r) {
-          hit.surf = Surf::kCeiling, hit.r = (frame_ceiling - cam_h) * s->rk;
+        surf = Surf::kWall;
+        const double rc = ceil_rel * s->rk;
+        if (s->k < 0 && s->rk < r) {
+          surf = Surf::kFloor, r = s->rk;
+        } else if (s->k > 0 && rc < r) {
+          surf = Surf::kCeiling, r = rc;
         }
       } else {
         std::uint32_t best_key = 0;
+        r = kInf;
         for (int q = 0; q < np; ++q) {
-          const double r = PlaneDistance(keys[q], *s, dx, dy);
-          if (r < hit.r) hit.r = r, best_key = keys[q];
+          const double rq = PlaneDistance(keys[q], *s, dx, dy);
+          if (rq < r) r = rq, best_key = keys[q];
         }
-        if (hit.r == kInf) return PixelTraced(s0);
-        hit.surf = static_cast<Surf>(best_key >> 24);
-        hit.id = hit.surf == Surf::kWall ? static_cast<int>(best_key & 0xFFFFFFu) : -1;
+        if (r == kInf) return PixelTraced(s0);
+        surf = static_cast<Surf>(best_key >> 24);
+        id = surf == Surf::kWall ? static_cast<int>(best_key & 0xFFFFFFu) : -1;
       }
-      if (hit.surf == Surf::kCeiling && !uniform_ceiling) return PixelTraced(s0);
-      const std::uint32_t key = static_cast<std::uint32_t>(hit.surf) << 24 |
-                                (hit.surf == Surf::kWall ? static_cast<std::uint32_t>(hit.id) : 0xFFFFFFu);
-      const int q = static_cast<int>(std::find(keys, keys + np, key) - keys);
-      if (q < np && plain[q]) {
-        Accumulate(acc[q], hit.surf, hit.id, px + dx * hit.r, py + dy * hit.r, cam_h + s->k * hit.r);
+      if (surf == Surf::kCeiling && !uniform_ceiling) return PixelTraced(s0);
+      const std::uint32_t key = static_cast<std::uint32_t>(surf) << 24 | (surf == Surf::kWall ? static_cast<std::uint32_t>(id) : 0xFFFFFFu);
+      int q = 4;
+      q = kq[3] == key ? 3 : q;
+      q = kq[2] == key ? 2 : q;
+      q = kq[1] == key ? 1 : q;
+      q = kq[0] == key ? 0 : q;
+      if (pq[q]) {  // (Accumulate, written out)
+        const double x = px + dx * r, y = py + dy * r;
+        double tu, tv, e;
+        if (surf == Surf::kWall) {
+          const double z = cam_h + s->k * r;
+          tu = wf[id].along_x ? x : y;
+          tv = z;
+          e = WallIrradiance(id, tu, z);
+        } else {
+          const double irr = cells[GridIndex(x, y)].irr;
+          e = surf == Surf::kCeiling ? world.ambient + kCeilingBounce * irr : irr;
+          tu = x, tv = y;
+        }
+        PlainAccum& a = acc[q];
+        a.e_sum += e;
+        ++a.count;
+        a.u_lo = std::min(a.u_lo, tu), a.u_hi = std::max(a.u_hi, tu);
+        a.v_lo = std::min(a.v_lo, tv), a.v_hi = std::max(a.v_hi, tv);
       } else {
+        Hit hit;
+        hit.surf = surf, hit.id = id, hit.r = r;
         sum += Shade(hit, px, py, cam_h, dx, dy, s->k, depth);
       }
     }
@@ -1519,6 +1614,39 @@ struct Renderer::Impl {
     return t * (0.25 * a_sum) + p0.b;
   }
 
+  // PixelAdaptive for the common pixel (four corners on one plain region of one plane, no mark,
+  // no obstacle near) from the compact corner arrays, inline; any other pixel goes to
+  // PixelAdaptive. Same arithmetic, same result.
+  [[gnu::always_inline]] double PixelAdaptiveFast(int u, int v, const Sample* s) const {
+    const int cw = camera.width + 1;
+    const std::size_t i0 = static_cast<std::size_t>(v) * cw + u, i2 = i0 + cw;
+    const std::uint64_t c = corner_cls[i0];
+    const bool one = (c == corner_cls[i0 + 1]) & (c == corner_cls[i2]) & (c == corner_cls[i2 + 1]);
+    // bit 63: exact; key2's low 16 bits: decal, flat item or light panel (not plain)
+    if (!one || (c & (1ull << 63 | 0xFFFFull)) || mask[static_cast<std::size_t>(v) * camera.width + u])
+      return PixelAdaptive(u, v, s);
+    if (col_near[u] != kInf) {
+      const double r_max = std::max(std::max(corner_r[i0], corner_r[i0 + 1]), std::max(corner_r[i2], corner_r[i2 + 1]));
+      if (col_near[u] <= r_max) return PixelAdaptive(u, v, s);
+    }
+    const SurfPt& p0 = corner_pt[i0];
+    if (p0.mat < 0) return p0.b;
+    const double u_lo = std::min(std::min(corner_tu[i0], corner_tu[i0 + 1]), std::min(corner_tu[i2], corner_tu[i2 + 1]));
+    const double u_hi = std::max(std::max(corner_tu[i0], corner_tu[i0 + 1]), std::max(corner_tu[i2], corner_tu[i2 + 1]));
+    const double v_lo = std::min(std::min(corner_tv[i0], corner_tv[i0 + 1]), std::min(corner_tv[i2], corner_tv[i2 + 1]));
+    const double v_hi = std::max(std::max(corner_tv[i0], corner_tv[i0 + 1]), std::max(corner_tv[i2], corner_tv[i2 + 1]));
+    const double t = tex[p0.mat].BoxMean(u_lo, u_hi, v_lo, v_hi);
+    const MatFast& mf = mats[p0.mat];
+    switch (static_cast<Surf>(c >> 56)) {
+      case Surf::kFloor: return t * mf.albedo * FloorIrradianceMean(u_lo, u_hi, v_lo, v_hi) + mf.emission;
+      case Surf::kCeiling:
+        return t * mf.albedo * (world.ambient + kCeilingBounce * FloorIrradianceMean(u_lo, u_hi, v_lo, v_hi)) + mf.emission;
+      case Surf::kWall:
+        return t * (mf.albedo * WallIrradianceMean(static_cast<int>((c >> 32) & 0xFFFFFFu), u_lo, u_hi, v_lo, v_hi) + mf.emission);
+      default: return PixelAdaptive(u, v, s);
+    }
+  }
+
   void Render(const Pose2& pose, MutableGrayView image, std::uint8_t* label, std::ptrdiff_t label_stride, float* range,
               std::ptrdiff_t range_stride, std::uint64_t frame_id) {
     SQUINT_ENSURE(image.data != nullptr && image.width == camera.width && image.height == camera.height,
@@ -1536,7 +1664,7 @@ struct Renderer::Impl {
         double mean;
         Hit first;
         if (adaptive) {
-          mean = PixelAdaptive(u, v, s);
+          mean = PixelAdaptiveFast(u, v, s);
         } else if (nn == 1) {
           double dx, dy;
           first = Trace(*s, dx, dy);

@@ -26,7 +26,7 @@ struct TextureTable {
   // Mean factor (texel * gain) over the texels meeting the box [u0, u1] × [v0, v1] (metres,
   // u0 <= u1, v0 <= v1), the table repeated periodically; a box wider than the table is
   // averaged over one table width (the pattern's mean).
-  float BoxMean(double u0, double u1, double v0, double v1) const;
+  [[gnu::always_inline]] float BoxMean(double u0, double u1, double v0, double v1) const;
 };
 
 // Builds the table for a material; deterministic (fixed seeds per texture kind and name).
@@ -39,7 +39,7 @@ inline std::int64_t FloorToInt(double x) {
 }
 
 // Inline: the renderer calls it once per adaptively shaded region.
-inline float TextureTable::BoxMean(double u0, double u1, double v0, double v1) const {
+[[gnu::always_inline]] inline float TextureTable::BoxMean(double u0, double u1, double v0, double v1) const {
   constexpr int kS = kTexSize + 1;
   // Texel columns [x0, x1) and rows [y0, y1) meeting the box, at most one table wide.
   const std::int64_t x0 = FloorToInt(u0 * inv_texel_m);
