@@ -34,6 +34,7 @@ void Run(const CalibrateCliOptions& opt) {
   if (const std::string bad = fit.Validate(); !bad.empty()) throw Error("calibrate: " + bad);
   corridor::CorridorOptions base;
   if (!opt.base.empty()) base = eval::LoadCalibrationFile(opt.base).options;
+  base = eval::CalibrationBaseOptions(base, fit);
   // Fit from the measures' uncalibrated answers: identity scales and no bias.
   eval::CorridorRunOptions run_opt;
   run_opt.perception = base;
@@ -125,6 +126,13 @@ void Register(CLI::App& root) {
   cmd->add_flag("--no-heading-filter{false}", opt->fit.heading_filter,
                 "Keep the per-frame heading fusion in the written options (default: the heading filter over "
                 "time is turned on, each cue's fitted sigma its measurement noise; docs/calibration.md)");
+  cmd->add_option("--ttc-cell-px", opt->fit.ttc_cell_px,
+                  "Time to contact's far-structure cells (px) written to the options when the base sets none; "
+                  "0 = keep the base's (docs/calibration.md)")
+      ->capture_default_str();
+  cmd->add_option("--ttc-cell-quantile", opt->fit.ttc_cell_quantile,
+                  "Quantile of the cells' magnifications that is the estimate")
+      ->capture_default_str();
   cmd->add_flag("--heading-weights-from-variance", opt->fit.heading_weights_from_variance,
                 "Set each heading cue's fusion weight to 1/sigma^2 of its calibrated error (the paper's rule; "
                 "default: keep the base options' weights)");

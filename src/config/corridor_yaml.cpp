@@ -163,6 +163,10 @@ void ReadDistance(const YAML::Node& node, const std::string& source, corridor::D
   r.Get("ttc_area_glance", d.ttc_area_glance);
   r.Get("ttc_min_contrast", d.ttc_min_contrast);
   r.Get("ttc_min_ncc", d.ttc_min_ncc);
+  r.Get("ttc_cell_px", d.ttc_cell_px);
+  r.Get("ttc_cell_quantile", d.ttc_cell_quantile);
+  r.Get("ttc_cell_min_count", d.ttc_cell_min_count);
+  r.Get("ttc_cell_max_se_fraction", d.ttc_cell_max_se_fraction);
   r.CheckUnknown();
 }
 
@@ -300,6 +304,10 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
   e << YAML::Key << "ttc_area_glance" << YAML::Value << d.ttc_area_glance;
   e << YAML::Key << "ttc_min_contrast" << YAML::Value << d.ttc_min_contrast;
   e << YAML::Key << "ttc_min_ncc" << YAML::Value << d.ttc_min_ncc;
+  e << YAML::Key << "ttc_cell_px" << YAML::Value << d.ttc_cell_px;
+  e << YAML::Key << "ttc_cell_quantile" << YAML::Value << d.ttc_cell_quantile;
+  e << YAML::Key << "ttc_cell_min_count" << YAML::Value << d.ttc_cell_min_count;
+  e << YAML::Key << "ttc_cell_max_se_fraction" << YAML::Value << d.ttc_cell_max_se_fraction;
   e << YAML::EndMap;
   e << YAML::Key << "gate" << YAML::Value << YAML::BeginMap << YAML::Key << "enabled" << YAML::Value
     << o.gate.enabled << YAML::Key << "threshold" << YAML::Value << o.gate.threshold << YAML::Key

@@ -297,6 +297,9 @@ GnSums SumScaleGn(const Glance& earlier, const Glance& current, const ScaleWindo
 struct GnResult {
   double scale = 1.0;
   double ncc = -2.0;
+  // Standard error of the scale at the best iterate (the linearised regression's; infinite when
+  // the window carries no scale information).
+  double se = HUGE_VAL;
 };
 
 GnResult RefineScale(const Glance& earlier, const Glance& current, const ScaleWindow& w, double cx, double cy,
@@ -318,7 +321,7 @@ GnResult RefineScale(const Glance& earlier, const Glance& current, const ScaleWi
       scale = back;
       continue;
     }
-    best = {scale, ncc};
+    best = {scale, ncc, HUGE_VAL};
     const double cgg = s.sgg - s.sg * s.sg / w.n;
     const double cxg = s.sxg - s.sx * s.sg / w.n;
     const double cgy = s.sgy - s.sg * w.sy / w.n;
@@ -327,6 +330,11 @@ GnResult RefineScale(const Glance& earlier, const Glance& current, const ScaleWi
     const double a = (cgg * cxy - cxg * cgy) / det;
     const double c = (cxx * cgy - cxg * cxy) / det;
     if (!(a > 0.0)) break;  // anti-correlated: no meaningful step
+    // se(σ) = se(c) / a, se(c)² = residual variance · cxx / det.
+    if (w.n > 3.0) {
+      const double rss = std::max(0.0, cyy - a * cxy - c * cgy);
+      best.se = std::sqrt(rss / (w.n - 3.0) * cxx / det) / a;
+    }
     const double next = std::clamp(scale + std::clamp(c / a, -kMaxStep, kMaxStep), 1.0, max_scale);
     if (std::abs(next - scale) < kTolerance) {
       // Converged: the last step is below the tolerance; its end is the answer.
@@ -376,6 +384,44 @@ std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& cu
   return ScaleMatch{r.scale, r.ncc, contrast, true};
 }
 
+std::optional<CellScales> CellExpansionScales(const Glance& earlier, const Glance& current, double cx, double cy,
+                                              double half_width_px, double half_height_px, double max_scale,
+                                              double start_scale, double cell_px, double min_contrast,
+                                              double min_ncc, double max_se) {
+  if (!std::isfinite(cx) || !std::isfinite(cy) || !(max_scale > 1.0) || !(cell_px >= 1.0)) return std::nullopt;
+  const int u0 = std::max(0, static_cast<int>(std::ceil(cx - half_width_px)));
+  const int u1 = std::min(kW - 1, static_cast<int>(std::floor(cx + half_width_px)));
+  const int v0 = std::max(0, static_cast<int>(std::ceil(cy - half_height_px)));
+  const int v1 = std::min(kH - 1, static_cast<int>(std::floor(cy + half_height_px)));
+  if (u1 < u0 || v1 < v0) return std::nullopt;
+  // Cells of about cell_px × cell_px: as many as fit (at least one per direction), the window's
+  // columns and rows shared out evenly.
+  const int nu = std::max(1, static_cast<int>(std::lround((u1 - u0 + 1) / cell_px)));
+  const int nv = std::max(1, static_cast<int>(std::lround((v1 - v0 + 1) / cell_px)));
+  CellScales out;
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      if (out.count >= kMaxTtcCells) break;
+      const int cu0 = u0 + (u1 - u0 + 1) * i / nu, cu1 = u0 + (u1 - u0 + 1) * (i + 1) / nu - 1;
+      const int cv0 = v0 + (v1 - v0 + 1) * j / nv, cv1 = v0 + (v1 - v0 + 1) * (j + 1) / nv - 1;
+      const ScaleWindow w = MakeWindow(current, cu0, cu1, cv0, cv1, 1);
+      if (w.n < 6.0) continue;
+      const double var = std::max(0.0, w.syy / w.n - (w.sy / w.n) * (w.sy / w.n));
+      if (std::sqrt(var) < min_contrast) continue;
+      const GnResult r = RefineScale(earlier, current, w, cx, cy, start_scale, max_scale);
+      if (r.ncc < min_ncc || !(r.se <= max_se)) continue;
+      out.scale[out.count++] = r.scale;
+    }
+  return out;
+}
+
+double LowerQuantile(std::span<double> values, double q) {
+  if (values.empty()) return 0.0;
+  const std::size_t k = static_cast<std::size_t>(std::floor(std::clamp(q, 0.0, 1.0) * (values.size() - 1)));
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+  return values[k];
+}
+
 void TimeToContactDistance::MeasureScale(const Glance& earlier, const Glance& current, int baseline_frames,
                                          std::optional<double> travelled_m, std::optional<double> reference_m,
                                          DistanceMeasureResult& out) const {
@@ -403,11 +449,25 @@ void TimeToContactDistance::MeasureScale(const Glance& earlier, const Glance& cu
                                                      options_.ttc_max_scale, predicted, options_.ttc_min_ncc);
   if (!m || m->contrast < options_.ttc_min_contrast || m->ncc < options_.ttc_min_ncc)
     return SetNoEstimate(out, Reason::kZeroGradient);
-  out.raw = m->scale - 1.0;
-  if (!(m->scale > 1.0)) return SetNoEstimate(out, Reason::kNotApproaching);
-  if (m->scale >= options_.ttc_max_scale) return SetNoEstimate(out, Reason::kOutOfRange);
+  double scale = m->scale;
+  if (options_.ttc_cell_px > 0.0) {
+    // Far-structure cells: the window's magnification is refined per cell, and a low quantile
+    // of the cells' magnifications (the farthest structure) replaces it.
+    // Cells whose scale is less certain than a fraction of the expected expansion (predicted,
+    // else the window's) carry no evidence of their own.
+    const double expected = std::max(predicted ? *predicted - 1.0 : m->scale - 1.0, 1e-3);
+    std::optional<CellScales> cells = CellExpansionScales(
+        earlier, current, cx_, cy_, half_w, half_h, options_.ttc_max_scale, m->scale, options_.ttc_cell_px,
+        options_.ttc_min_contrast, options_.ttc_min_ncc, options_.ttc_cell_max_se_fraction * expected);
+    if (cells && cells->count >= options_.ttc_cell_min_count)
+      scale = LowerQuantile(std::span<double>(cells->scale.data(), static_cast<std::size_t>(cells->count)),
+                            options_.ttc_cell_quantile);
+  }
+  out.raw = scale - 1.0;
+  if (!(scale > 1.0)) return SetNoEstimate(out, Reason::kNotApproaching);
+  if (scale >= options_.ttc_max_scale) return SetNoEstimate(out, Reason::kOutOfRange);
   if (!travelled_m || !(*travelled_m > 0.0)) return SetNoEstimate(out, Reason::kNoTravel);
-  SetInput(*this, *travelled_m / (m->scale - 1.0), out);
+  SetInput(*this, *travelled_m / (scale - 1.0), out);
 }
 
 void SmoothGlance(const Glance& in, Glance& out) {

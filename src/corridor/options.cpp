@@ -151,6 +151,12 @@ std::string DistanceOptions::Validate() const {
     e << "distance.ttc_initial_baseline_m must be positive; ";
   if (!Finite(ttc_min_contrast) || ttc_min_contrast < 0.0) e << "distance.ttc_min_contrast must be >= 0; ";
   if (!Finite(ttc_min_ncc) || ttc_min_ncc < -1.0 || ttc_min_ncc > 1.0) e << "distance.ttc_min_ncc must be in [-1, 1]; ";
+  if (!Finite(ttc_cell_px) || (ttc_cell_px != 0.0 && ttc_cell_px < 3.0))
+    e << "distance.ttc_cell_px must be 0 (off) or >= 3; ";
+  if (!Finite(ttc_cell_quantile) || ttc_cell_quantile < 0.0 || ttc_cell_quantile > 1.0)
+    e << "distance.ttc_cell_quantile must be in [0, 1]; ";
+  if (ttc_cell_min_count < 1) e << "distance.ttc_cell_min_count must be >= 1; ";
+  if (!(ttc_cell_max_se_fraction > 0.0)) e << "distance.ttc_cell_max_se_fraction must be positive; ";
   if (ttc_max_baseline_frames < 1 || ttc_max_baseline_frames > kMaxTtcBaselineFrames)
     e << "distance.ttc_max_baseline_frames must be in [1, " << kMaxTtcBaselineFrames << "]; ";
   if (!Finite(ttc_baseline_fraction) || ttc_baseline_fraction <= 0.0 || ttc_baseline_fraction > 1.0)

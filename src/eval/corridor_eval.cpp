@@ -300,9 +300,22 @@ CorridorRun RunCorridorSequence(const io::Sequence& sequence, const CorridorRunO
 
 std::string CalibrateOptions::Validate() const {
   if (!fit_heading && !fit_distance) return "nothing to fit (both heading and distance are off)";
+  if (!std::isfinite(ttc_cell_px) || (ttc_cell_px != 0.0 && ttc_cell_px < 3.0))
+    return "ttc_cell_px must be 0 (keep the base's) or >= 3";
+  if (!(ttc_cell_quantile >= 0.0 && ttc_cell_quantile <= 1.0)) return "ttc_cell_quantile must be in [0, 1]";
   if (std::string s = heading.Validate(); !s.empty()) return "heading: " + s;
   if (std::string s = distance.Validate(); !s.empty()) return "distance: " + s;
   return {};
+}
+
+corridor::CorridorOptions CalibrationBaseOptions(const corridor::CorridorOptions& base,
+                                                 const CalibrateOptions& options) {
+  corridor::CorridorOptions out = base;
+  if (options.fit_distance && options.ttc_cell_px > 0.0 && base.distance.ttc_cell_px == 0.0) {
+    out.distance.ttc_cell_px = options.ttc_cell_px;
+    out.distance.ttc_cell_quantile = options.ttc_cell_quantile;
+  }
+  return out;
 }
 
 void CheckCalibrationInputs(const io::Sequence& sequence, bool need_heading, bool need_distance) {

@@ -55,6 +55,10 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   o.distance.ttc_baseline_fraction = 0.07;
   o.distance.ttc_centre_at_horizon = false;
   o.distance.ttc_gain_compensation = true;
+  o.distance.ttc_cell_px = 5.0;
+  o.distance.ttc_cell_quantile = 0.3;
+  o.distance.ttc_cell_min_count = 4;
+  o.distance.ttc_cell_max_se_fraction = 0.6;
   o.gate.threshold = 0.02;
   o.gate.enabled = false;
   o.gate.compare_with_last_processed = false;
@@ -95,6 +99,10 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   EXPECT_EQ(back.distance.ttc_baseline_fraction, 0.07);
   EXPECT_FALSE(back.distance.ttc_centre_at_horizon);
   EXPECT_TRUE(back.distance.ttc_gain_compensation);
+  EXPECT_EQ(back.distance.ttc_cell_px, 5.0);
+  EXPECT_EQ(back.distance.ttc_cell_quantile, 0.3);
+  EXPECT_EQ(back.distance.ttc_cell_min_count, 4);
+  EXPECT_EQ(back.distance.ttc_cell_max_se_fraction, 0.6);
   EXPECT_EQ(back.gate.threshold, 0.02);
   EXPECT_FALSE(back.gate.enabled);
   EXPECT_FALSE(back.gate.compare_with_last_processed);

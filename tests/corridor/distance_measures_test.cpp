@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "squint/corridor/prepared_glance.hpp"
 
@@ -229,6 +230,42 @@ TEST(ExpansionScale, WindowContractionAndDegenerateInputs) {
   EXPECT_FALSE(ExpansionScale(a, a, cx, cy, 1, 1, 1.5).has_value());
   EXPECT_FALSE(ExpansionScale(a, a, std::nan(""), cy, 32, 24, 1.5).has_value());
   EXPECT_FALSE(ExpansionScale(a, a, cx, cy, 32, 24, 1.0).has_value());
+}
+
+// Far-structure cells: the end wall (the middle columns) magnified by 1.04, the near walls on
+// either side by 1.2. The window's single magnification lies between; a low quantile of the
+// cells' magnifications recovers the end wall's.
+TEST(CellExpansionScales, LowQuantileRecoversTheFarthestStructure) {
+  const double cx = 15.5, cy = 11.5;
+  const Glance a = TexturedPattern(1.0, cx, cy);
+  Glance b;
+  for (int v = 0; v < kGlanceHeight; ++v)
+    for (int u = 0; u < kGlanceWidth; ++u) {
+      const double k = std::abs(u - cx) <= 5.0 ? 1.04 : 1.2;
+      b.At(u, v) = TexturedPattern(k, cx, cy).At(u, v);
+    }
+  const auto whole = ExpansionScale(a, b, cx, cy, 15, 11, 1.5);
+  ASSERT_TRUE(whole.has_value());
+  auto cells = CellExpansionScales(a, b, cx, cy, 15, 11, 1.5, whole->scale, 5.0, 2.0, 0.8);
+  ASSERT_TRUE(cells.has_value());
+  ASSERT_GE(cells->count, 6);
+  const double far = LowerQuantile(std::span<double>(cells->scale.data(), cells->count), 0.25);
+  EXPECT_NEAR(far, 1.04, 0.01);
+  EXPECT_GT(whole->scale, 1.06);  // the single window is pulled towards the near walls
+  // The upper quantile is the near walls'.
+  const double near = LowerQuantile(std::span<double>(cells->scale.data(), cells->count), 1.0);
+  EXPECT_NEAR(near, 1.2, 0.02);
+  // Degenerate inputs: no cells for a bad centre, no valid cells on a uniform frame.
+  EXPECT_FALSE(CellExpansionScales(a, b, std::nan(""), cy, 15, 11, 1.5, 1.0, 5.0, 2.0, 0.8).has_value());
+  Glance flat;
+  flat.pixels.fill(90);
+  const auto none = CellExpansionScales(a, flat, cx, cy, 15, 11, 1.5, 1.0, 5.0, 2.0, 0.8);
+  ASSERT_TRUE(none.has_value());
+  EXPECT_EQ(none->count, 0);
+  std::array<double, 5> v = {5, 1, 4, 2, 3};
+  EXPECT_DOUBLE_EQ(LowerQuantile(v, 0.0), 1.0);
+  EXPECT_DOUBLE_EQ(LowerQuantile(v, 0.5), 3.0);
+  EXPECT_DOUBLE_EQ(LowerQuantile(v, 1.0), 5.0);
 }
 
 TEST(TimeToContact, ScaleSearchGivesTheCurrentDistanceAndRefusesPlainWalls) {

@@ -157,11 +157,13 @@ TEST(Perceiver, FallbackScaleWithoutIntrinsics) {
 }
 
 TEST(Perceiver, NoHeapAllocationPerGlanceInSteadyState) {
-  for (const bool filter : {false, true}) {  // also with the heading filter (calibrated options)
+  // Also with the heading filter and the far-structure cells (calibrated options).
+  for (const bool filter : {false, true}) {
     CorridorOptions options;
     options.gate.enabled = false;
     options.distance.speed_mps = 0.4;
     options.heading.filter.enabled = filter;
+    if (filter) options.distance.ttc_cell_px = 6.0;
     Perceiver perceiver(options, Camera160());
     const auto a = Frame(85.0, 59.5), b = Frame(86.0, 59.5, 4);
     perceiver.Process(View(a), std::nullopt, 0.1);  // warm-up: tables built once

@@ -184,6 +184,39 @@ TEST(FitCorridorCalibration, TurnsTheHeadingFilterOnWithEachCuesSigmaUnlessAsked
   EXPECT_FALSE(FitCorridorCalibration(PlantedRuns(), {}, {}, distance_only).options.heading.filter.enabled);
 }
 
+TEST(CalibrationBaseOptions, TurnsTheFarStructureCellsOnUnlessTheBaseSetsThemOrNoDistanceIsFitted) {
+  const corridor::CorridorOptions defaults;
+  EXPECT_EQ(defaults.distance.ttc_cell_px, 0.0);  // the Perceiver's default: off
+  const corridor::CorridorOptions on = CalibrationBaseOptions(defaults, {});
+  EXPECT_EQ(on.distance.ttc_cell_px, 6.0);
+  EXPECT_EQ(on.distance.ttc_cell_quantile, 0.5);
+  EXPECT_TRUE(on.Validate().empty());
+  corridor::CorridorOptions mine;
+  mine.distance.ttc_cell_px = 4.0;
+  mine.distance.ttc_cell_quantile = 0.3;
+  const corridor::CorridorOptions kept = CalibrationBaseOptions(mine, {});
+  EXPECT_EQ(kept.distance.ttc_cell_px, 4.0);
+  EXPECT_EQ(kept.distance.ttc_cell_quantile, 0.3);
+  CalibrateOptions none;
+  none.ttc_cell_px = 0.0;
+  EXPECT_EQ(CalibrationBaseOptions(defaults, none).distance.ttc_cell_px, 0.0);
+  CalibrateOptions heading_only;
+  heading_only.fit_distance = false;
+  EXPECT_EQ(CalibrationBaseOptions(defaults, heading_only).distance.ttc_cell_px, 0.0);
+  CalibrateOptions bad;
+  bad.ttc_cell_px = 2.0;
+  EXPECT_FALSE(bad.Validate().empty());
+  bad.ttc_cell_px = 6.0;
+  bad.ttc_cell_quantile = 1.5;
+  EXPECT_FALSE(bad.Validate().empty());
+  // The written options carry the cells through the file.
+  CorridorCalibrationFile file;
+  file.options = on;
+  const CorridorCalibrationFile back = CalibrationFileFromYaml(CalibrationFileToYaml(file), "mem");
+  EXPECT_EQ(back.options.distance.ttc_cell_px, 6.0);
+  EXPECT_EQ(back.options.distance.ttc_cell_quantile, 0.5);
+}
+
 TEST(FitCorridorCalibration, RefusesRunsWithoutTruthOrWithOneHeading) {
   std::vector<CorridorRun> runs = PlantedRuns();
   for (auto& r : runs)

@@ -2,7 +2,10 @@
 // by the direct method (eq. 3), Jeffrey divergence (eq. 4) and entropy change (§4.2.3).
 #pragma once
 
+#include <array>
+#include <cmath>
 #include <memory>
+#include <span>
 #include <optional>
 
 #include "squint/corridor/measure.hpp"
@@ -43,6 +46,24 @@ std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& cu
                                          double half_width_px, double half_height_px, double max_scale,
                                          std::optional<double> initial_scale = std::nullopt,
                                          double accept_ncc = 1.0);
+
+// Far-structure cells (DistanceOptions::ttc_cell_px): the window of ExpansionScale cut into
+// cells of about cell_px × cell_px pixels; in each cell whose grey-level σ reaches min_contrast
+// the magnification is refined by Gauss–Newton from start_scale, and kept when its NCC reaches
+// min_ncc and its standard error (of the linearised Gauss–Newton regression) is at most max_se.
+// None for a bad centre or window. At most kMaxTtcCells cells (no allocation).
+inline constexpr int kMaxTtcCells = 96;
+struct CellScales {
+  std::array<double, kMaxTtcCells> scale{};
+  int count = 0;
+};
+std::optional<CellScales> CellExpansionScales(const Glance& earlier, const Glance& current, double cx, double cy,
+                                              double half_width_px, double half_height_px, double max_scale,
+                                              double start_scale, double cell_px, double min_contrast,
+                                              double min_ncc, double max_se = HUGE_VAL);
+// The lower q-quantile of `values` (the element of rank floor(q · (n − 1)); reorders them); 0
+// when empty.
+double LowerQuantile(std::span<double> values, double q);
 
 // 3×3 binomial smoothing ([1 2 1] ⊗ [1 2 1] / 16, rounded; border pixels repeated). `in` and
 // `out` may not be the same glance.

@@ -145,8 +145,20 @@ struct CalibrateOptions {
   // Turn the Perceiver's heading filter on in the written options (HeadingFilterOptions), with
   // each cue's fitted σ as its measurement noise (always written to the cues' std_deg).
   bool heading_filter = true;
+  // Time to contact's far-structure cells (corridor::DistanceOptions::ttc_cell_px,
+  // ttc_cell_quantile): used for the fit's own run and written to the options, unless the base
+  // options already set cells (then theirs). 0 = keep the base's (off by default). 6 px and the
+  // median, chosen on the calibration drives drive-3-00* (docs/calibration.md): fused 0.94 /
+  // 3.72 m -> 0.57 / 3.24 m RMSE at 0.3–5 / 5–15 m there.
+  double ttc_cell_px = 6.0;
+  double ttc_cell_quantile = 0.5;
   std::string Validate() const;
 };
+
+// The options `squint calibrate` measures with and writes: `base` with the choices above
+// applied (the far-structure cells when distance is fitted and the base has none).
+corridor::CorridorOptions CalibrationBaseOptions(const corridor::CorridorOptions& base,
+                                                 const CalibrateOptions& options);
 
 // Fits the calibration from runs made with identity scales (heading_camera_deg and dist_raw
 // are used). `base` supplies everything not fitted. Throws squint::Error when the runs lack the
