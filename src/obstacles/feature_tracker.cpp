@@ -10,6 +10,10 @@
 #include <sstream>
 #include <utility>
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#endif
+
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
@@ -80,53 +84,177 @@ bool CloseEnough(const cv::Point2f& a, const cv::Point2f& b, double max_px) {
   return dx * dx + dy * dy <= max_px * max_px;
 }
 
-// Hamming distances between every row of `a` (rows of the result) and every row of `b` (columns),
-// for binary descriptors (ORB: 32 bytes, AKAZE: 61 bytes). The x86 popcnt instruction is used when
-// the CPU has it (8× faster than the portable bit count; OpenCV's BFMatcher calls one dispatched
-// function per pair, ≈ 2 ms for 400 × 400 ORB descriptors against ≈ 0.25 ms here).
-template <bool kHardware>
-void HammingRows(const cv::Mat& a, const cv::Mat& b, cv::Mat* dist) {
-  const int bytes = a.cols, words = bytes / 8;
-  for (int i = 0; i < a.rows; ++i) {
-    const unsigned char* p = a.ptr<unsigned char>(i);
-    float* out = dist->ptr<float>(i);
-    for (int j = 0; j < b.rows; ++j) {
-      const unsigned char* q = b.ptr<unsigned char>(j);
-      int d = 0;
-      for (int w = 0; w < words; ++w) {
-        std::uint64_t x, y;
-        std::memcpy(&x, p + 8 * w, 8);
-        std::memcpy(&y, q + 8 * w, 8);
-        if constexpr (kHardware) d += __builtin_popcountll(x ^ y);
-        else d += std::popcount(x ^ y);
-      }
-      for (int k = 8 * words; k < bytes; ++k) d += std::popcount(static_cast<unsigned>(p[k] ^ q[k]));
-      out[j] = static_cast<float>(d);
+// Binary descriptors (ORB: 32 bytes, AKAZE: 61 bytes) packed into 64-bit words, zero-padded to a
+// whole word (the padding XORs to zero), one descriptor after the other.
+void PackWords(const cv::Mat& descriptors, std::vector<std::uint64_t>* words, int* words_per_row) {
+  const int bytes = descriptors.cols, per_row = (bytes + 7) / 8;
+  *words_per_row = per_row;
+  words->assign(static_cast<std::size_t>(descriptors.rows) * static_cast<std::size_t>(per_row), 0);
+  for (int i = 0; i < descriptors.rows; ++i)
+    std::memcpy(words->data() + static_cast<std::size_t>(i) * static_cast<std::size_t>(per_row), descriptors.ptr(i),
+                static_cast<std::size_t>(bytes));
+}
+
+// Nearest and second-nearest previous descriptor of every current one, and the nearest current
+// descriptor of every previous one, by Hamming distance, in one pass over all pairs (no distance
+// matrix). Ties keep the lower index, as a scan in index order with strict comparisons does.
+// Float distances (SIFT) fill the *f vectors instead.
+struct NearestTable {
+  bool is_float = false;
+  std::vector<int> row_best, row_d1, row_d2;  // per current descriptor
+  std::vector<int> col_best, col_d;           // per previous descriptor
+  std::vector<float> row_d1f, row_d2f, col_df;
+  void Reset(int rows, int cols, bool floats) {
+    is_float = floats;
+    const auto r = static_cast<std::size_t>(rows), c = static_cast<std::size_t>(cols);
+    row_best.assign(r, -1);
+    col_best.assign(c, -1);
+    if (floats) {
+      row_d1f.assign(r, std::numeric_limits<float>::infinity());
+      row_d2f.assign(r, std::numeric_limits<float>::infinity());
+      col_df.assign(c, std::numeric_limits<float>::infinity());
+    } else {
+      row_d1.assign(r, std::numeric_limits<int>::max());
+      row_d2.assign(r, std::numeric_limits<int>::max());
+      col_d.assign(c, std::numeric_limits<int>::max());
     }
+  }
+  double D1(int i) const {
+    const auto k = static_cast<std::size_t>(i);
+    return is_float ? static_cast<double>(row_d1f[k]) : static_cast<double>(row_d1[k]);
+  }
+  double D2(int i) const {
+    const auto k = static_cast<std::size_t>(i);
+    return is_float ? static_cast<double>(row_d2f[k]) : static_cast<double>(row_d2[k]);
+  }
+};
+
+// kWords > 0: words per descriptor known at compile time (ORB's 4); 0: `words` at run time.
+template <int kWords, bool kHardware>
+inline void HammingNearest(const std::uint64_t* cur, int rows, const std::uint64_t* prev, int cols, int words,
+                           NearestTable* t) {
+  if constexpr (kWords > 0) words = kWords;
+  int* col_best = t->col_best.data();
+  int* col_d = t->col_d.data();
+  for (int i = 0; i < rows; ++i) {
+    const std::uint64_t* p = cur + static_cast<std::size_t>(i) * static_cast<std::size_t>(words);
+    std::uint64_t a[kWords > 0 ? kWords : 1];
+    if constexpr (kWords > 0)
+      for (int w = 0; w < kWords; ++w) a[w] = p[w];
+    int best = -1, d1 = std::numeric_limits<int>::max(), d2 = d1;
+    const std::uint64_t* q = prev;
+    for (int j = 0; j < cols; ++j, q += words) {
+      int d = 0;
+      if constexpr (kWords > 0) {
+        for (int w = 0; w < kWords; ++w) {
+          if constexpr (kHardware) d += __builtin_popcountll(a[w] ^ q[w]);
+          else d += std::popcount(a[w] ^ q[w]);
+        }
+      } else {
+        for (int w = 0; w < words; ++w) {
+          if constexpr (kHardware) d += __builtin_popcountll(p[w] ^ q[w]);
+          else d += std::popcount(p[w] ^ q[w]);
+        }
+      }
+      if (d < d1) d2 = d1, d1 = d, best = j;
+      else if (d < d2) d2 = d;
+      if (d < col_d[j]) col_d[j] = d, col_best[j] = i;
+    }
+    t->row_best[static_cast<std::size_t>(i)] = best;
+    t->row_d1[static_cast<std::size_t>(i)] = d1;
+    t->row_d2[static_cast<std::size_t>(i)] = d2;
   }
 }
 
+template <bool kHardware>
+void HammingNearestAny(const std::uint64_t* cur, int rows, const std::uint64_t* prev, int cols, int words,
+                       NearestTable* t) {
+  if (words == 4) return HammingNearest<4, kHardware>(cur, rows, prev, cols, words, t);
+  HammingNearest<0, kHardware>(cur, rows, prev, cols, words, t);
+}
+
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-__attribute__((target("popcnt"))) void HammingRowsPopcnt(const cv::Mat& a, const cv::Mat& b, cv::Mat* dist) {
-  HammingRows<true>(a, b, dist);
+__attribute__((target("popcnt"))) void HammingNearestPopcnt(const std::uint64_t* cur, int rows,
+                                                            const std::uint64_t* prev, int cols, int words,
+                                                            NearestTable* t) {
+  HammingNearestAny<true>(cur, rows, prev, cols, words, t);
 }
 bool HasPopcnt() {
   static const bool has = __builtin_cpu_supports("popcnt");
   return has;
 }
-#endif
-
-// dist(i, j) = distance between descriptor row i of `a` and row j of `b` (CV_32F).
-void DescriptorDistances(const cv::Mat& a, const cv::Mat& b, int norm, cv::Mat* dist) {
-  if (norm == cv::NORM_HAMMING) {
-    dist->create(a.rows, b.rows, CV_32F);
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    if (HasPopcnt()) return HammingRowsPopcnt(a, b, dist);
-#endif
-    return HammingRows<false>(a, b, dist);
-  }
-  cv::batchDistance(a, b, *dist, CV_32F, cv::noArray(), norm);
+bool HasAvx2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
 }
+
+// ORB's 32-byte descriptors with AVX2: eight distances per step (nibble-table bit count, byte sums
+// per 64-bit lane, lanes summed), the column minima updated eight at a time; a row's best two are
+// updated in index order only when one of the eight beats its current second best. Same result as
+// HammingNearest<4, ...> (integer arithmetic, same tie rule).
+__attribute__((target("avx2,popcnt"))) void HammingNearest32Avx2(const std::uint64_t* cur, int rows,
+                                                                 const std::uint64_t* prev, int cols,
+                                                                 NearestTable* t) {
+  const __m256i lut = _mm256_setr_epi8(0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4, 0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2,
+                                       3, 2, 3, 3, 4);
+  const __m256i low4 = _mm256_set1_epi8(0x0f);
+  const __m256i zero = _mm256_setzero_si256();
+  int* col_best = t->col_best.data();
+  int* col_d = t->col_d.data();
+  alignas(32) int d8[8];
+  for (int i = 0; i < rows; ++i) {
+    const std::uint64_t* p = cur + 4 * static_cast<std::size_t>(i);
+    const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p));
+    const __m256i vi = _mm256_set1_epi32(i);
+    int best = -1, d1 = std::numeric_limits<int>::max(), d2 = d1;
+    auto scalar = [&](int j, int d) {
+      if (d < d1) d2 = d1, d1 = d, best = j;
+      else if (d < d2) d2 = d;
+    };
+    int j = 0;
+    for (; j + 8 <= cols; j += 8) {
+      // Per descriptor k: the bit count of a ^ prev[j + k] as four partial byte sums, one per 64-bit lane.
+      __m256i sums[8];
+      for (int k = 0; k < 8; ++k) {
+        const __m256i x = _mm256_xor_si256(
+            a, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(prev + 4 * static_cast<std::size_t>(j + k))));
+        const __m256i counts = _mm256_add_epi8(_mm256_shuffle_epi8(lut, _mm256_and_si256(x, low4)),
+                                               _mm256_shuffle_epi8(lut, _mm256_and_si256(_mm256_srli_epi16(x, 4), low4)));
+        sums[k] = _mm256_sad_epu8(counts, zero);
+      }
+      // Lane sums of descriptors k and k + 1 in the low and high halves of each 64-bit lane, then
+      // the lanes added up: d holds the eight distances in order.
+      const __m256i a01 = _mm256_or_si256(sums[0], _mm256_slli_epi64(sums[1], 32));
+      const __m256i a23 = _mm256_or_si256(sums[2], _mm256_slli_epi64(sums[3], 32));
+      const __m256i a45 = _mm256_or_si256(sums[4], _mm256_slli_epi64(sums[5], 32));
+      const __m256i a67 = _mm256_or_si256(sums[6], _mm256_slli_epi64(sums[7], 32));
+      const __m256i c = _mm256_add_epi32(_mm256_unpacklo_epi64(a01, a23), _mm256_unpackhi_epi64(a01, a23));
+      const __m256i e = _mm256_add_epi32(_mm256_unpacklo_epi64(a45, a67), _mm256_unpackhi_epi64(a45, a67));
+      const __m256i d = _mm256_add_epi32(_mm256_permute2x128_si256(c, e, 0x20), _mm256_permute2x128_si256(c, e, 0x31));
+      __m256i* cd_ptr = reinterpret_cast<__m256i*>(col_d + j);
+      __m256i* cb_ptr = reinterpret_cast<__m256i*>(col_best + j);
+      const __m256i cd = _mm256_loadu_si256(cd_ptr);
+      const __m256i lower = _mm256_cmpgt_epi32(cd, d);  // d < column minimum so far
+      _mm256_storeu_si256(cd_ptr, _mm256_min_epi32(cd, d));
+      _mm256_storeu_si256(cb_ptr, _mm256_blendv_epi8(_mm256_loadu_si256(cb_ptr), vi, lower));
+      const __m256i beats = _mm256_cmpgt_epi32(_mm256_set1_epi32(d2), d);
+      if (_mm256_testz_si256(beats, beats)) continue;
+      _mm256_store_si256(reinterpret_cast<__m256i*>(d8), d);
+      for (int k = 0; k < 8; ++k) scalar(j + k, d8[k]);
+    }
+    for (; j < cols; ++j) {
+      const std::uint64_t* q = prev + 4 * static_cast<std::size_t>(j);
+      const int d = __builtin_popcountll(p[0] ^ q[0]) + __builtin_popcountll(p[1] ^ q[1]) +
+                    __builtin_popcountll(p[2] ^ q[2]) + __builtin_popcountll(p[3] ^ q[3]);
+      scalar(j, d);
+      if (d < col_d[j]) col_d[j] = d, col_best[j] = i;
+    }
+    t->row_best[static_cast<std::size_t>(i)] = best;
+    t->row_d1[static_cast<std::size_t>(i)] = d1;
+    t->row_d2[static_cast<std::size_t>(i)] = d2;
+  }
+}
+#endif
 
 // Detector + descriptor trackers share the matching: the distance matrix between the two frames'
 // descriptors is computed once; a current keypoint's nearest previous keypoint is its match when it
@@ -151,26 +279,28 @@ class DescriptorTracker : public FeatureTracker {
     Detect(current, &kp_cur_, &desc_cur_);
     current.copyTo(last_current_);
     if (kp_prev_.size() < 2 || kp_cur_.size() < 2) return;
-    DescriptorDistances(desc_cur_, desc_prev_, norm_, &dist_);
-    // Nearest current row of every previous column (the mutual check).
-    column_best_.assign(static_cast<std::size_t>(dist_.cols), -1);
-    column_best_d_.assign(static_cast<std::size_t>(dist_.cols), std::numeric_limits<float>::infinity());
-    for (int i = 0; i < dist_.rows; ++i) {
-      const float* row = dist_.ptr<float>(i);
-      for (int j = 0; j < dist_.cols; ++j)
-        if (row[j] < column_best_d_[static_cast<std::size_t>(j)])
-          column_best_d_[static_cast<std::size_t>(j)] = row[j], column_best_[static_cast<std::size_t>(j)] = i;
+    const int rows = desc_cur_.rows, cols = desc_prev_.rows;
+    nearest_.Reset(rows, cols, norm_ != cv::NORM_HAMMING);
+    if (norm_ == cv::NORM_HAMMING) {
+      int words = 0;
+      PackWords(desc_cur_, &words_cur_, &words);
+      PackWords(desc_prev_, &words_prev_, &words);
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+      if (words == 4 && HasAvx2() && HasPopcnt())
+        HammingNearest32Avx2(words_cur_.data(), rows, words_prev_.data(), cols, &nearest_);
+      else if (HasPopcnt())
+        HammingNearestPopcnt(words_cur_.data(), rows, words_prev_.data(), cols, words, &nearest_);
+      else
+#endif
+        HammingNearestAny<false>(words_cur_.data(), rows, words_prev_.data(), cols, words, &nearest_);
+    } else {
+      FloatNearest();
     }
-    for (int i = 0; i < dist_.rows; ++i) {
-      const float* row = dist_.ptr<float>(i);
-      int best = -1;
-      float d1 = std::numeric_limits<float>::infinity(), d2 = d1;
-      for (int j = 0; j < dist_.cols; ++j) {
-        if (row[j] < d1) d2 = d1, d1 = row[j], best = j;
-        else if (row[j] < d2) d2 = row[j];
-      }
+    for (int i = 0; i < rows; ++i) {
+      const int best = nearest_.row_best[static_cast<std::size_t>(i)];
+      const double d1 = nearest_.D1(i), d2 = nearest_.D2(i);
       if (best < 0 || !(d1 < options_.ratio * d2)) continue;
-      if (column_best_[static_cast<std::size_t>(best)] != i) continue;
+      if (nearest_.col_best[static_cast<std::size_t>(best)] != i) continue;
       const cv::Point2f& p = kp_prev_[static_cast<std::size_t>(best)].pt;
       const cv::Point2f& c = kp_cur_[static_cast<std::size_t>(i)].pt;
       if (!CloseEnough(p, c, options_.max_displacement_px)) continue;
@@ -188,12 +318,32 @@ class DescriptorTracker : public FeatureTracker {
   cv::Mat desc_prev_, desc_cur_;
   cv::Mat last_current_;  // copy of the last later frame (kp_cur_, desc_cur_ are its detection)
   cv::Mat half_;          // the half-size image (SIFT with a native first octave)
-  cv::Mat dist_;  // descriptor distances, current rows × previous columns
-  std::vector<int> column_best_;
-  std::vector<float> column_best_d_;
+  cv::Mat dist_;  // float descriptor distances (SIFT), current rows × previous columns
+  std::vector<std::uint64_t> words_cur_, words_prev_;  // binary descriptors as 64-bit words
+  NearestTable nearest_;
   std::vector<cv::Point2f> from_, to_, start_;
   std::vector<unsigned char> status_;
   std::vector<float> err_;
+
+  // The nearest-neighbour table from the float distance matrix (L2: SIFT).
+  void FloatNearest() {
+    cv::batchDistance(desc_cur_, desc_prev_, dist_, CV_32F, cv::noArray(), norm_);
+    std::vector<float>& col_d = nearest_.col_df;
+    for (int i = 0; i < dist_.rows; ++i) {
+      const float* row = dist_.ptr<float>(i);
+      int best = -1;
+      float d1 = std::numeric_limits<float>::infinity(), d2 = d1;
+      for (int j = 0; j < dist_.cols; ++j) {
+        if (row[j] < d1) d2 = d1, d1 = row[j], best = j;
+        else if (row[j] < d2) d2 = row[j];
+        if (row[j] < col_d[static_cast<std::size_t>(j)])
+          col_d[static_cast<std::size_t>(j)] = row[j], nearest_.col_best[static_cast<std::size_t>(j)] = i;
+      }
+      nearest_.row_best[static_cast<std::size_t>(i)] = best;
+      nearest_.row_d1f[static_cast<std::size_t>(i)] = d1;
+      nearest_.row_d2f[static_cast<std::size_t>(i)] = d2;
+    }
+  }
 
   // Keypoints and descriptors of one image; with a native first octave (SIFT), on the half-size
   // image, keypoints mapped back (half-size pixel i covers full-size pixels 2i and 2i + 1).

@@ -96,6 +96,28 @@ TEST(FeatureTracker, DescriptorMatchesEqualOpenCvReferenceMatching) {
   }
 }
 
+// ORB matching with descriptor counts that are not multiples of 8 (the vectorised distance loop's
+// remainder) and different in the two frames: still the reference matches.
+TEST(FeatureTracker, OrbMatchesEqualReferenceForOddDescriptorCounts) {
+  const cv::Mat a = TexturedImage(), b = Zoomed(a);
+  for (int n : {203, 61, 13}) {
+    FeatureOptions o;
+    o.detector = Detector::kOrb;
+    o.max_features = n;
+    const auto tracker = MakeFeatureTracker(o);
+    std::vector<Match> matches;
+    tracker->Track(a, b, &matches);
+    std::vector<PointPair> got;
+    for (const Match& m : matches) got.emplace_back(m.previous.x, m.previous.y, m.current.x, m.current.y);
+    std::sort(got.begin(), got.end());
+    const auto orb =
+        cv::ORB::create(n, 1.2f, o.orb_levels, 15, 0, 2, cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
+    const auto want = Reference(orb, cv::NORM_HAMMING, a, b, o);
+    EXPECT_GE(want.size(), 3u) << n;
+    EXPECT_EQ(got, want) << n;
+  }
+}
+
 // SIFT with a native first octave runs OpenCV's SIFT on the half-size images: the same matches as the
 // reference on those, mapped to full-size pixels (half-size pixel i covers 2i and 2i + 1), and they
 // follow the zoom in full-size coordinates.
