@@ -2,6 +2,7 @@
 // Lucas–Kanade tracking with a forward–backward check.
 #include "squint/obstacles/feature_tracker.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -389,8 +390,8 @@ class KltTracker : public FeatureTracker {
 
   void Track(const cv::Mat& previous, const cv::Mat& current, std::vector<Match>* matches) override {
     matches->clear();
-    cv::goodFeaturesToTrack(previous, corners_, options_.max_features, options_.klt_quality,
-                            options_.klt_min_distance_px);
+    corners_detector_.Detect(previous, options_.max_features, options_.klt_quality, options_.klt_min_distance_px,
+                             &corners_);
     if (corners_.empty()) return;
     const cv::Size window(options_.klt_window_px, options_.klt_window_px);
     // 10 iterations: LK converges in a few at this image motion; each one costs a window pass per point.
@@ -401,12 +402,13 @@ class KltTracker : public FeatureTracker {
       cv::buildOpticalFlowPyramid(previous, pyr_prev_, window, options_.klt_levels);
     cv::buildOpticalFlowPyramid(current, pyr_cur_, window, options_.klt_levels);
     current.copyTo(last_current_);
-    cv::calcOpticalFlowPyrLK(pyr_prev_, pyr_cur_, corners_, tracked_, status_, err_, window, options_.klt_levels,
-                             term);
+    // No error output: OpenCV computes it in an extra window pass per point, and it is not used.
+    cv::calcOpticalFlowPyrLK(pyr_prev_, pyr_cur_, corners_, tracked_, status_, cv::noArray(), window,
+                             options_.klt_levels, term);
     // Back from the tracked points, starting at the corners and on the full-resolution level only: a
     // consistent track converges there at once; an inconsistent one cannot get back within the bound.
     back_ = corners_;
-    cv::calcOpticalFlowPyrLK(pyr_cur_, pyr_prev_, tracked_, back_, status_back_, err_, window, 0, term,
+    cv::calcOpticalFlowPyrLK(pyr_cur_, pyr_prev_, tracked_, back_, status_back_, cv::noArray(), window, 0, term,
                              cv::OPTFLOW_USE_INITIAL_FLOW);
     const cv::Rect2f inside(0.f, 0.f, static_cast<float>(current.cols - 1), static_cast<float>(current.rows - 1));
     for (std::size_t i = 0; i < corners_.size(); ++i) {
@@ -420,14 +422,104 @@ class KltTracker : public FeatureTracker {
 
  private:
   FeatureOptions options_;
+  ShiTomasiDetector corners_detector_;
   std::vector<cv::Point2f> corners_, tracked_, back_;
   std::vector<cv::Mat> pyr_prev_, pyr_cur_;
   cv::Mat last_current_;  // copy of the last later frame (pyr_cur_ is its pyramid)
   std::vector<unsigned char> status_, status_back_;
-  std::vector<float> err_;
 };
 
 }  // namespace
+
+void ShiTomasiDetector::Detect(const cv::Mat& image, int max_corners, double quality, double min_distance,
+                             std::vector<cv::Point2f>* corners) {
+  corners->clear();
+  const int w = image.cols, h = image.rows;
+  if (w < 3 || h < 3) return;
+  // Gradients scaled as OpenCV scales them for a 3 × 3 block: 1 / (4 · 3 · 255).
+  const double scale = 1.0 / (4.0 * 3.0 * 255.0);
+  cv::Sobel(image, dx_, CV_32F, 1, 0, 3, scale, 0, cv::BORDER_DEFAULT);
+  cv::Sobel(image, dy_, CV_32F, 0, 1, 3, scale, 0, cv::BORDER_DEFAULT);
+  tensor_.create(h, w, CV_32FC3);
+  for (int y = 0; y < h; ++y) {
+    const float* gx = dx_.ptr<float>(y);
+    const float* gy = dy_.ptr<float>(y);
+    float* t = tensor_.ptr<float>(y);
+    for (int x = 0; x < w; ++x) {
+      const float a = gx[x], b = gy[x];
+      t[3 * x] = a * a;
+      t[3 * x + 1] = a * b;
+      t[3 * x + 2] = b * b;
+    }
+  }
+  cv::boxFilter(tensor_, tensor_, CV_32F, cv::Size(3, 3), cv::Point(-1, -1), false, cv::BORDER_DEFAULT);
+  eig_.create(h, w, CV_32F);
+  float largest = -std::numeric_limits<float>::infinity();
+  for (int y = 0; y < h; ++y) {
+    const float* t = tensor_.ptr<float>(y);
+    float* e = eig_.ptr<float>(y);
+    for (int x = 0; x < w; ++x) {
+      const float a = t[3 * x] * 0.5f, b = t[3 * x + 1], c = t[3 * x + 2] * 0.5f;
+      const float d = a - c;
+      e[x] = (a + c) - std::sqrt(d * d + b * b);
+      largest = std::max(largest, e[x]);
+    }
+  }
+  // Values not above the threshold count as 0, as for a thresholded map.
+  const float threshold = static_cast<float>(static_cast<double>(largest) * quality);
+  auto kept = [threshold](float v) { return v > threshold ? v : 0.f; };
+  candidates_.clear();
+  for (int y = 1; y < h - 1; ++y) {
+    const float* up = eig_.ptr<float>(y - 1);
+    const float* row = eig_.ptr<float>(y);
+    const float* down = eig_.ptr<float>(y + 1);
+    for (int x = 1; x < w - 1; ++x) {
+      const float v = kept(row[x]);
+      if (v == 0.f) continue;
+      if (v < kept(row[x - 1]) || v < kept(row[x + 1]) || v < kept(up[x - 1]) || v < kept(up[x]) ||
+          v < kept(up[x + 1]) || v < kept(down[x - 1]) || v < kept(down[x]) || v < kept(down[x + 1]))
+        continue;
+      candidates_.push_back({v, y * w + x});
+    }
+  }
+  std::sort(candidates_.begin(), candidates_.end(), [](const Candidate& p, const Candidate& q) {
+    return p.value > q.value || (p.value == q.value && p.index > q.index);
+  });
+  const int max_n = max_corners > 0 ? max_corners : std::numeric_limits<int>::max();
+  if (min_distance < 1.0) {
+    for (const Candidate& c : candidates_) {
+      if (static_cast<int>(corners->size()) == max_n) break;
+      corners->emplace_back(static_cast<float>(c.index % w), static_cast<float>(c.index / w));
+    }
+    return;
+  }
+  // A grid of min_distance-sized cells: a candidate is checked against the corners of its cell and
+  // the eight around it.
+  const int cell = cvRound(min_distance);
+  const int gw = (w + cell - 1) / cell, gh = (h + cell - 1) / cell;
+  grid_.resize(static_cast<std::size_t>(gw) * static_cast<std::size_t>(gh));
+  for (auto& g : grid_) g.clear();
+  const double min_d2 = min_distance * min_distance;
+  for (const Candidate& c : candidates_) {
+    const int x = c.index % w, y = c.index / w;
+    const int cx = x / cell, cy = y / cell;
+    bool good = true;
+    for (int yy = std::max(0, cy - 1); good && yy <= std::min(gh - 1, cy + 1); ++yy)
+      for (int xx = std::max(0, cx - 1); good && xx <= std::min(gw - 1, cx + 1); ++xx)
+        for (const cv::Point2f& q : grid_[static_cast<std::size_t>(yy * gw + xx)]) {
+          const float ddx = static_cast<float>(x) - q.x, ddy = static_cast<float>(y) - q.y;
+          if (ddx * ddx + ddy * ddy < min_d2) {
+            good = false;
+            break;
+          }
+        }
+    if (!good) continue;
+    const cv::Point2f p(static_cast<float>(x), static_cast<float>(y));
+    grid_[static_cast<std::size_t>(cy * gw + cx)].push_back(p);
+    corners->push_back(p);
+    if (static_cast<int>(corners->size()) == max_n) break;
+  }
+}
 
 std::unique_ptr<FeatureTracker> MakeFeatureTracker(const FeatureOptions& options) {
   SQUINT_ENSURE(options.Validate().empty(), options.Validate());

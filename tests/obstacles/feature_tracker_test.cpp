@@ -160,6 +160,36 @@ TEST(FeatureTracker, SiftNativeFirstOctaveIsSiftOnTheHalfImageMappedBack) {
   EXPECT_LT(err[err.size() / 2], 0.5);
 }
 
+// The KLT tracker's Shi–Tomasi detector gives cv::goodFeaturesToTrack's corners in its order, on
+// textures, a checkerboard (many equal values: the tie order), a flat image (none) and odd sizes.
+TEST(FeatureTracker, ShiTomasiEqualsGoodFeaturesToTrack) {
+  std::vector<cv::Mat> images;
+  images.push_back(TexturedImage());
+  images.push_back(Zoomed(TexturedImage()));
+  cv::Mat noise(97, 131, CV_8U);
+  cv::RNG rng(11);
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
+  images.push_back(noise);
+  cv::Mat board(192, 256, CV_8U);
+  for (int y = 0; y < board.rows; ++y)
+    for (int x = 0; x < board.cols; ++x) board.at<unsigned char>(y, x) = ((x / 8 + y / 8) % 2) ? 200 : 40;
+  images.push_back(board);
+  images.push_back(cv::Mat(192, 256, CV_8U, cv::Scalar(77)));
+  ShiTomasiDetector detector;
+  for (std::size_t k = 0; k < images.size(); ++k)
+    for (const auto& [n, quality, spacing] : {std::tuple{400, 0.005, 5.0}, std::tuple{50, 0.05, 10.0},
+                                              std::tuple{0, 0.01, 0.0}, std::tuple{1000, 0.001, 1.0}}) {
+      std::vector<cv::Point2f> got, want;
+      detector.Detect(images[k], n, quality, spacing, &got);
+      cv::goodFeaturesToTrack(images[k], want, n, quality, spacing);
+      ASSERT_EQ(got.size(), want.size()) << "image " << k << " n " << n;
+      for (std::size_t i = 0; i < got.size(); ++i) {
+        EXPECT_EQ(got[i].x, want[i].x) << "image " << k << " corner " << i;
+        EXPECT_EQ(got[i].y, want[i].y) << "image " << k << " corner " << i;
+      }
+    }
+}
+
 // KLT: corners tracked into the zoomed frame land where the zoom puts them (sub-pixel).
 TEST(FeatureTracker, KltTracksTheZoom) {
   const cv::Mat a = TexturedImage(), b = Zoomed(a);
