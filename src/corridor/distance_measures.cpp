@@ -450,7 +450,7 @@ void TimeToContactDistance::MeasureScale(const Glance& earlier, const Glance& cu
   if (!m || m->contrast < options_.ttc_min_contrast || m->ncc < options_.ttc_min_ncc)
     return SetNoEstimate(out, Reason::kZeroGradient);
   double scale = m->scale;
-  if (options_.ttc_cell_px > 0.0) {
+  if (options_.ttc_cell_px > 0.0 && m->scale - 1.0 >= options_.ttc_cell_min_expansion) {
     // Far-structure cells: the window's magnification is refined per cell, and a low quantile
     // of the cells' magnifications (the farthest structure) replaces it.
     // Cells whose scale is less certain than a fraction of the expected expansion (predicted,

@@ -157,6 +157,8 @@ std::string DistanceOptions::Validate() const {
     e << "distance.ttc_cell_quantile must be in [0, 1]; ";
   if (ttc_cell_min_count < 1) e << "distance.ttc_cell_min_count must be >= 1; ";
   if (!(ttc_cell_max_se_fraction > 0.0)) e << "distance.ttc_cell_max_se_fraction must be positive; ";
+  if (!Finite(ttc_cell_min_expansion) || ttc_cell_min_expansion < 0.0)
+    e << "distance.ttc_cell_min_expansion must be >= 0; ";
   if (ttc_max_baseline_frames < 1 || ttc_max_baseline_frames > kMaxTtcBaselineFrames)
     e << "distance.ttc_max_baseline_frames must be in [1, " << kMaxTtcBaselineFrames << "]; ";
   if (!Finite(ttc_baseline_fraction) || ttc_baseline_fraction <= 0.0 || ttc_baseline_fraction > 1.0)

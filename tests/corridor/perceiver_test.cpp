@@ -146,6 +146,15 @@ TEST(Perceiver, RejectsInvalidOptions) {
   EXPECT_NE(options.Validate().find("min_consensus_cues"), std::string::npos);
   options.heading.min_consensus_cues = kHeadingCueCount + 1;
   EXPECT_NE(options.Validate().find("min_consensus_cues"), std::string::npos);
+  options = {};
+  options.distance.ttc_cell_px = 2.0;  // 0 (off) or at least 3
+  EXPECT_NE(options.Validate().find("ttc_cell_px"), std::string::npos);
+  options = {};
+  options.distance.ttc_cell_quantile = 1.5;
+  EXPECT_NE(options.Validate().find("ttc_cell_quantile"), std::string::npos);
+  options = {};
+  options.distance.ttc_cell_min_expansion = -0.1;
+  EXPECT_NE(options.Validate().find("ttc_cell_min_expansion"), std::string::npos);
 }
 
 TEST(Perceiver, FallbackScaleWithoutIntrinsics) {
