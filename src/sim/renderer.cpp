@@ -39,6 +39,7 @@ constexpr double kCeilingBounce = 0.25;
 constexpr double kLightPanelRadiance = 3.0;  // saturates at default exposure: lights are the brightest
 constexpr double kOffPanelRadiance = 0.10;
 constexpr int kMaxBinObstacles = 12;
+constexpr int kMaxSamples = 16 * 16;  // samples per pixel (RenderOptions::supersample <= 16)
 constexpr int kGammaLutSize = 4096;
 // Adaptive supersampling: per-pixel marks of what may lie inside a pixel between its corners.
 constexpr std::uint8_t kMaskGeometry = 1;  // a wall's vertical edge: trace every sample
@@ -176,6 +177,8 @@ struct Renderer::Impl {
   // region keys (key1 << 32 | key2, bit 63 set for `exact`) and the texture coordinates.
   std::vector<std::uint64_t> corner_cls;
   std::vector<double> corner_tu, corner_tv;
+  std::vector<double> corner_dx, corner_dy;  // per frame: world-frame horizontal directions
+  std::vector<int> corner_id;                // per frame: bearing-table wall (PrepareAdaptive)
   std::vector<double> corner_r;
   std::vector<std::uint8_t> mask;    // per pixel: kMaskGeometry | kMaskPattern
   std::vector<double> col_max_t;     // per pixel column: farthest wall over its bins
@@ -279,13 +282,15 @@ struct Renderer::Impl {
       corner_cls.resize(corners.size());
       corner_tu.resize(corners.size());
       corner_tv.resize(corners.size());
+      corner_dx.resize(corners.size());
+      corner_dy.resize(corners.size());
+      corner_id.resize(corners.size());
       corner_r.resize(corners.size());
       mask.resize(static_cast<std::size_t>(cam.width) * cam.height);
       col_max_t.resize(cam.width);
       col_near.resize(cam.width);
       col_obs.resize(static_cast<std::size_t>(cam.width) * kMaxColObstacles);
       col_nobs.resize(cam.width);
-      bin_near.resize(bins);
     }
     edge_c.resize(bins + 1);
     edge_s.resize(bins + 1);
@@ -305,6 +310,7 @@ struct Renderer::Impl {
     edge_t.assign(bins + 1, kInf);
     bin_count.assign(bins, 0);
     bin_obs.assign(static_cast<std::size_t>(bins) * kMaxBinObstacles, 0);
+    bin_near.assign(bins, kInf);
     obs_ox.assign(world.obstacles.size(), 0);
     obs_oy = obs_c = obs_s = obs_near = obs_far = obs_ox;
 
@@ -564,7 +570,7 @@ struct Renderer::Impl {
       obs_far[o] = d + rad;
       auto add = [&](int b0, int b1) {
         for (int b = std::max(b0, 0); b <= std::min(b1, bins - 1); ++b) {
-          if (adaptive) bin_near[b] = std::min(bin_near[b], near);
+          bin_near[b] = std::min(bin_near[b], near);
           int& cnt = bin_count[b];
           if (cnt < kMaxBinObstacles) bin_obs[static_cast<std::size_t>(b) * kMaxBinObstacles + cnt] = static_cast<int>(o);
           ++cnt;  // counts past the capacity mean "test all obstacles"
@@ -770,7 +776,9 @@ struct Renderer::Impl {
       }
     }
     const int cnt = bin_count[s.bin];
-    if (cnt > 0) {
+    // An obstacle's entry distance is at least its bounding circle's nearest distance: none
+    // in the bin can be met before the hit when the nearest lies beyond it (with a margin).
+    if (cnt > 0 && bin_near[s.bin] <= hit.r * (1 + 1e-9) + 1e-9) {
       if (cnt <= kMaxBinObstacles) {
         const int* list = &bin_obs[static_cast<std::size_t>(s.bin) * kMaxBinObstacles];
         for (int i = 0; i < cnt; ++i) HitObstacle(list[i], obs_ox[list[i]], obs_oy[list[i]], cam_h, dx, dy, s.k, hit);
@@ -1145,19 +1153,35 @@ struct Renderer::Impl {
   // Traces the pixel corners and marks the pixels that hold an edge no corner may see.
   void PrepareAdaptive() {
     const double ceil_rel = frame_ceiling - cam_h;
-    for (std::size_t i = 0; i < corners.size(); ++i) {
-      // Trace and Describe, written out for the common corner (a wall, floor or ceiling point
-      // in a bin without obstacles, on a plain region); any other corner takes them in full.
-      // A plain wall corner's `a` (its lit shade) is left 0: only regions' corners use it.
+    const std::size_t nc = corners.size();
+    // First the bearing-table walls of every corner ray (a short loop whose iterations overlap:
+    // the wall divisions dominate), then the rest of Trace and Describe per corner.
+    for (std::size_t i = 0; i < nc; ++i) {
       const Sample& cs = corners[i];
       const double dx = cyaw * cs.ca - syaw * cs.sa, dy = syaw * cs.ca + cyaw * cs.sa;
       const int w0 = edge_wall[cs.bin], w1 = edge_wall[cs.bin + 1];
-      const double t0 = WallDistance(w0, dx, dy), t1 = WallDistance(w1, dx, dy);
-      double r = t0 <= t1 ? t0 : t1;
-      const int id = t0 <= t1 ? w0 : w1;
-      SurfPt p;
-      bool done = false;
-      if (r != kInf && bin_count[cs.bin] == 0 && uniform_ceiling) {
+      const double t0 = WallDistance(w0, dx, dy);
+      double r = t0;
+      int id = w0;
+      if (w1 != w0) {
+        const double t1 = WallDistance(w1, dx, dy);
+        r = t0 <= t1 ? t0 : t1;
+        id = t0 <= t1 ? w0 : w1;
+      }
+      corner_dx[i] = dx, corner_dy[i] = dy, corner_r[i] = r, corner_id[i] = id;
+    }
+    for (std::size_t i = 0; i < nc; ++i) {
+      // Trace and Describe, written out for the common corner (a wall, floor or ceiling point
+      // with no obstacle of its bin nearer, on a plain region); any other corner takes them in full.
+      // A plain wall corner's `a` (its lit shade) is left 0: only regions' corners use it.
+      const Sample& cs = corners[i];
+      const double dx = corner_dx[i], dy = corner_dy[i];
+      double r = corner_r[i];
+      const int id = corner_id[i];
+      // (fields written one by one: a whole SurfPt built on the stack and copied stalls on
+      // store forwarding)
+      SurfPt& p = corner_pt[i];
+      if (r != kInf && uniform_ceiling) {
         Surf surf = Surf::kWall;
         if (cs.k < 0 && cs.rk < r) {
           surf = Surf::kFloor, r = cs.rk;
@@ -1165,44 +1189,51 @@ struct Renderer::Impl {
           const double rc = ceil_rel * cs.rk;
           if (rc < r) surf = Surf::kCeiling, r = rc;
         }
+        if (bin_count[cs.bin] > 0 && bin_near[cs.bin] <= r * (1 + 1e-9) + 1e-9) goto full;  // as Trace
         const double x = px + dx * r, y = py + dy * r;
         if (surf == Surf::kWall) {
           const WallFast& f = wf[id];
-          if (!f.decals) {
-            const MatFast& m = mats[f.material];
-            p.key1 = static_cast<std::uint32_t>(Surf::kWall) << 24 | (static_cast<std::uint32_t>(id) & 0xFFFFFFu);
-            p.key2 = static_cast<std::uint32_t>(f.material) << 16;
-            p.mat = f.material, p.tu = f.along_x ? x : y, p.tv = cam_h + cs.k * r, p.exact = m.mirror > 0;
-            done = true;
-          }
+          if (f.decals) goto full;
+          const MatFast& m = mats[f.material];
+          const std::uint32_t key1 = static_cast<std::uint32_t>(Surf::kWall) << 24 | (static_cast<std::uint32_t>(id) & 0xFFFFFFu);
+          const std::uint32_t key2 = static_cast<std::uint32_t>(f.material) << 16;
+          const bool exact = m.mirror > 0;
+          p.key1 = key1, p.key2 = key2, p.mat = f.material, p.tu = f.along_x ? x : y, p.tv = cam_h + cs.k * r;
+          p.a = 0, p.b = 0, p.exact = exact;
+          corner_cls[i] = (static_cast<std::uint64_t>(key1) << 32 | key2) | (exact ? 1ull << 63 : 0);
         } else {
           const Cell& cell = cells[GridIndex(x, y)];
+          int mat;
+          double a;
           if (surf == Surf::kFloor && cell.flat == -1) {
-            const MatFast& m = mats[cell.floor_mat];
-            p.key1 = static_cast<std::uint32_t>(Surf::kFloor) << 24 | 0xFFFFFFu;
-            p.key2 = static_cast<std::uint32_t>(cell.floor_mat) << 16;
-            p.mat = cell.floor_mat, p.tu = x, p.tv = y, p.a = m.albedo * cell.irr, p.b = m.emission;
-            done = true;
+            mat = cell.floor_mat;
+            a = mats[mat].albedo * cell.irr;
           } else if (surf == Surf::kCeiling && cell.light < 0) {
-            const MatFast& m = mats[cell.ceil_mat];
-            p.key1 = static_cast<std::uint32_t>(Surf::kCeiling) << 24 | 0xFFFFFFu;
-            p.key2 = static_cast<std::uint32_t>(cell.ceil_mat) << 16;
-            p.mat = cell.ceil_mat, p.tu = x, p.tv = y, p.a = m.albedo * (world.ambient + kCeilingBounce * cell.irr), p.b = m.emission;
-            done = true;
+            mat = cell.ceil_mat;
+            a = mats[mat].albedo * (world.ambient + kCeilingBounce * cell.irr);
+          } else {
+            goto full;
           }
+          const std::uint32_t key1 = static_cast<std::uint32_t>(surf) << 24 | 0xFFFFFFu;
+          const std::uint32_t key2 = static_cast<std::uint32_t>(mat) << 16;
+          p.key1 = key1, p.key2 = key2, p.mat = mat, p.tu = x, p.tv = y, p.a = a, p.b = mats[mat].emission, p.exact = false;
+          corner_cls[i] = static_cast<std::uint64_t>(key1) << 32 | key2;
         }
+        corner_r[i] = r;
+        corner_tu[i] = p.tu;
+        corner_tv[i] = p.tv;
+        continue;
       }
-      if (!done) {
+    full:
+      {
         double tdx, tdy;
         const Hit hit = Trace(cs, tdx, tdy);
-        r = hit.r;
+        corner_r[i] = hit.r;
         p = Describe(hit, px, py, cam_h, tdx, tdy, cs.k);
+        corner_cls[i] = (static_cast<std::uint64_t>(p.key1) << 32 | p.key2) | (p.exact ? 1ull << 63 : 0);
+        corner_tu[i] = p.tu;
+        corner_tv[i] = p.tv;
       }
-      corner_r[i] = r;
-      corner_pt[i] = p;
-      corner_cls[i] = (static_cast<std::uint64_t>(p.key1) << 32 | p.key2) | (p.exact ? 1ull << 63 : 0);
-      corner_tu[i] = p.tu;
-      corner_tv[i] = p.tv;
     }
     for (int u = 0; u < camera.width; ++u) {
       double t = 0, near = kInf;
@@ -1510,27 +1541,39 @@ struct Renderer::Impl {
     double wu_lo = kInf, wu_hi = -kInf, wv_lo = kInf, wv_hi = -kInf, we = 0;
     const int nn = n * n;
     const double inv_n = 1.0 / n;
-    int on_plane = 0;
-    for (int j = 0; j < n; ++j) {
+    // First every sample's direction and side, then each side's samples in a loop of its own
+    // (no branch per sample: the light-map reads of several samples overlap).
+    double sdx[kMaxSamples], sdy[kMaxSamples], sdz[kMaxSamples];
+    int on_list[kMaxSamples], off_list[kMaxSamples];
+    int on_plane = 0, off_plane = 0;
+    for (int j = 0, k = 0; j < n; ++j) {
       const double fy = (j + 0.5) * inv_n;
       const double g_l = g[0] + fy * (g[2] - g[0]), g_r = g[1] + fy * (g[3] - g[1]);
       const double x_l = gx[0] + fy * (gx[2] - gx[0]), x_r = gx[1] + fy * (gx[3] - gx[1]);
       const double y_l = gy[0] + fy * (gy[2] - gy[0]), y_r = gy[1] + fy * (gy[3] - gy[1]);
       const double z_l = gz[0] + fy * (gz[2] - gz[0]), z_r = gz[1] + fy * (gz[3] - gz[1]);
-      for (int i = 0; i < n; ++i) {
+      for (int i = 0; i < n; ++i, ++k) {
         const double fx = (i + 0.5) * inv_n;
-        const double dx = x_l + fx * (x_r - x_l), dy = y_l + fx * (y_r - y_l), dz = z_l + fx * (z_r - z_l);
-        if (g_l + fx * (g_r - g_l) > 0) {
-          const double t = h_rel / dz, x = px + t * dx, y = py + t * dy;
-          pu_lo = std::min(pu_lo, x), pu_hi = std::max(pu_hi, x), pv_lo = std::min(pv_lo, y), pv_hi = std::max(pv_hi, y);
-          pe += cells[GridIndex(x, y)].irr, ++on_plane;
-        } else {
-          const double t = (wall_c - wall_p) / (ws.along_x ? dy : dx);
-          const double along = wall_a + t * (ws.along_x ? dx : dy), z = cam_h + t * dz;
-          wu_lo = std::min(wu_lo, along), wu_hi = std::max(wu_hi, along), wv_lo = std::min(wv_lo, z), wv_hi = std::max(wv_hi, z);
-          we += WallIrradiance(w, along, z);
-        }
+        sdx[k] = x_l + fx * (x_r - x_l), sdy[k] = y_l + fx * (y_r - y_l), sdz[k] = z_l + fx * (z_r - z_l);
+        const bool on = g_l + fx * (g_r - g_l) > 0;
+        on_list[on_plane] = k, off_list[off_plane] = k;
+        on_plane += on, off_plane += !on;
       }
+    }
+    for (int q = 0; q < on_plane; ++q) {
+      const int k = on_list[q];
+      const double t = h_rel / sdz[k], x = px + t * sdx[k], y = py + t * sdy[k];
+      pu_lo = std::min(pu_lo, x), pu_hi = std::max(pu_hi, x), pv_lo = std::min(pv_lo, y), pv_hi = std::max(pv_hi, y);
+      pe += cells[GridIndex(x, y)].irr;
+    }
+    const double* across = ws.along_x ? sdy : sdx;
+    const double* other = ws.along_x ? sdx : sdy;
+    for (int q = 0; q < off_plane; ++q) {
+      const int k = off_list[q];
+      const double t = (wall_c - wall_p) / across[k];
+      const double along = wall_a + t * other[k], z = cam_h + t * sdz[k];
+      wu_lo = std::min(wu_lo, along), wu_hi = std::max(wu_hi, along), wv_lo = std::min(wv_lo, z), wv_hi = std::max(wv_hi, z);
+      we += WallIrradiance(w, along, z);
     }
     const int pn = on_plane, wn = nn - on_plane;
     double sum = 0;
