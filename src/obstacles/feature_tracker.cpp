@@ -13,6 +13,8 @@
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
+#elif defined(__SSE2__)
+#include <emmintrin.h>
 #endif
 
 #include <opencv2/features2d.hpp>
@@ -440,46 +442,108 @@ void ShiTomasiDetector::Detect(const cv::Mat& image, int max_corners, double qua
   const double scale = 1.0 / (4.0 * 3.0 * 255.0);
   cv::Sobel(image, dx_, CV_32F, 1, 0, 3, scale, 0, cv::BORDER_DEFAULT);
   cv::Sobel(image, dy_, CV_32F, 0, 1, 3, scale, 0, cv::BORDER_DEFAULT);
-  tensor_.create(h, w, CV_32FC3);
+  // The structure tensor's three planes, each summed over the 3 × 3 block (per element the same sums
+  // as OpenCV's three-channel box filter).
+  for (cv::Mat& m : tensor_) m.create(h, w, CV_32F);
   for (int y = 0; y < h; ++y) {
     const float* gx = dx_.ptr<float>(y);
     const float* gy = dy_.ptr<float>(y);
-    float* t = tensor_.ptr<float>(y);
+    float* xx = tensor_[0].ptr<float>(y);
+    float* xy = tensor_[1].ptr<float>(y);
+    float* yy = tensor_[2].ptr<float>(y);
     for (int x = 0; x < w; ++x) {
-      const float a = gx[x], b = gy[x];
-      t[3 * x] = a * a;
-      t[3 * x + 1] = a * b;
-      t[3 * x + 2] = b * b;
+      xx[x] = gx[x] * gx[x];
+      xy[x] = gx[x] * gy[x];
+      yy[x] = gy[x] * gy[x];
     }
   }
-  cv::boxFilter(tensor_, tensor_, CV_32F, cv::Size(3, 3), cv::Point(-1, -1), false, cv::BORDER_DEFAULT);
+  for (cv::Mat& m : tensor_)
+    cv::boxFilter(m, m, CV_32F, cv::Size(3, 3), cv::Point(-1, -1), false, cv::BORDER_DEFAULT);
+  // Smaller eigenvalue (a + c) − sqrt((a − c)² + b²) with a, c half the diagonal, b the off-diagonal.
   eig_.create(h, w, CV_32F);
   float largest = -std::numeric_limits<float>::infinity();
   for (int y = 0; y < h; ++y) {
-    const float* t = tensor_.ptr<float>(y);
+    const float* xx = tensor_[0].ptr<float>(y);
+    const float* xy = tensor_[1].ptr<float>(y);
+    const float* yy = tensor_[2].ptr<float>(y);
     float* e = eig_.ptr<float>(y);
-    for (int x = 0; x < w; ++x) {
-      const float a = t[3 * x] * 0.5f, b = t[3 * x + 1], c = t[3 * x + 2] * 0.5f;
+    int x = 0;
+#if defined(__SSE2__)
+    const __m128 half = _mm_set1_ps(0.5f);
+    __m128 top = _mm_set1_ps(largest);
+    for (; x + 4 <= w; x += 4) {
+      const __m128 a = _mm_mul_ps(_mm_loadu_ps(xx + x), half), b = _mm_loadu_ps(xy + x);
+      const __m128 c = _mm_mul_ps(_mm_loadu_ps(yy + x), half), d = _mm_sub_ps(a, c);
+      const __m128 v = _mm_sub_ps(_mm_add_ps(a, c), _mm_sqrt_ps(_mm_add_ps(_mm_mul_ps(d, d), _mm_mul_ps(b, b))));
+      _mm_storeu_ps(e + x, v);
+      top = _mm_max_ps(top, v);
+    }
+    alignas(16) float lanes[4];
+    _mm_store_ps(lanes, top);
+    for (float l : lanes) largest = std::max(largest, l);
+#endif
+    for (; x < w; ++x) {
+      const float a = xx[x] * 0.5f, b = xy[x], c = yy[x] * 0.5f;
       const float d = a - c;
       e[x] = (a + c) - std::sqrt(d * d + b * b);
       largest = std::max(largest, e[x]);
     }
   }
-  // Values not above the threshold count as 0, as for a thresholded map.
+  // Values not above the threshold count as 0, as in a thresholded map; a local maximum is not below
+  // any of its eight neighbours.
   const float threshold = static_cast<float>(static_cast<double>(largest) * quality);
-  auto kept = [threshold](float v) { return v > threshold ? v : 0.f; };
   candidates_.clear();
-  for (int y = 1; y < h - 1; ++y) {
-    const float* up = eig_.ptr<float>(y - 1);
-    const float* row = eig_.ptr<float>(y);
-    const float* down = eig_.ptr<float>(y + 1);
-    for (int x = 1; x < w - 1; ++x) {
-      const float v = kept(row[x]);
-      if (v == 0.f) continue;
-      if (v < kept(row[x - 1]) || v < kept(row[x + 1]) || v < kept(up[x - 1]) || v < kept(up[x]) ||
-          v < kept(up[x + 1]) || v < kept(down[x - 1]) || v < kept(down[x]) || v < kept(down[x + 1]))
-        continue;
-      candidates_.push_back({v, y * w + x});
+  if (threshold >= 0.f) {
+    // Then a value above the threshold is not below a neighbour's thresholded value exactly when it
+    // is not below the neighbour's value.
+    for (int y = 1; y < h - 1; ++y) {
+      const float* up = eig_.ptr<float>(y - 1);
+      const float* row = eig_.ptr<float>(y);
+      const float* down = eig_.ptr<float>(y + 1);
+      int x = 1;
+#if defined(__SSE2__)
+      const __m128 t = _mm_set1_ps(threshold);
+      for (; x + 4 <= w - 1; x += 4) {
+        const __m128 v = _mm_loadu_ps(row + x);
+        __m128 ok = _mm_cmpgt_ps(v, t);
+        if (_mm_movemask_ps(ok) == 0) continue;
+        ok = _mm_and_ps(ok, _mm_cmpge_ps(v, _mm_loadu_ps(row + x - 1)));
+        ok = _mm_and_ps(ok, _mm_cmpge_ps(v, _mm_loadu_ps(row + x + 1)));
+        ok = _mm_and_ps(ok, _mm_cmpge_ps(v, _mm_loadu_ps(up + x - 1)));
+        ok = _mm_and_ps(ok, _mm_cmpge_ps(v, _mm_loadu_ps(up + x)));
+        ok = _mm_and_ps(ok, _mm_cmpge_ps(v, _mm_loadu_ps(up + x + 1)));
+        ok = _mm_and_ps(ok, _mm_cmpge_ps(v, _mm_loadu_ps(down + x - 1)));
+        ok = _mm_and_ps(ok, _mm_cmpge_ps(v, _mm_loadu_ps(down + x)));
+        ok = _mm_and_ps(ok, _mm_cmpge_ps(v, _mm_loadu_ps(down + x + 1)));
+        for (int bits = _mm_movemask_ps(ok); bits != 0; bits &= bits - 1) {
+          const int k = std::countr_zero(static_cast<unsigned>(bits));
+          candidates_.push_back({row[x + k], y * w + x + k});
+        }
+      }
+#endif
+      for (; x < w - 1; ++x) {
+        const float v = row[x];
+        if (!(v > threshold)) continue;
+        if (v < row[x - 1] || v < row[x + 1] || v < up[x - 1] || v < up[x] || v < up[x + 1] || v < down[x - 1] ||
+            v < down[x] || v < down[x + 1])
+          continue;
+        candidates_.push_back({v, y * w + x});
+      }
+    }
+  } else {
+    auto kept = [threshold](float v) { return v > threshold ? v : 0.f; };
+    for (int y = 1; y < h - 1; ++y) {
+      const float* up = eig_.ptr<float>(y - 1);
+      const float* row = eig_.ptr<float>(y);
+      const float* down = eig_.ptr<float>(y + 1);
+      for (int x = 1; x < w - 1; ++x) {
+        const float v = kept(row[x]);
+        if (v == 0.f) continue;
+        if (v < kept(row[x - 1]) || v < kept(row[x + 1]) || v < kept(up[x - 1]) || v < kept(up[x]) ||
+            v < kept(up[x + 1]) || v < kept(down[x - 1]) || v < kept(down[x]) || v < kept(down[x + 1]))
+          continue;
+        candidates_.push_back({v, y * w + x});
+      }
     }
   }
   std::sort(candidates_.begin(), candidates_.end(), [](const Candidate& p, const Candidate& q) {

@@ -98,7 +98,7 @@ class ShiTomasiDetector {
     float value;
     int index;  // y · width + x
   };
-  cv::Mat dx_, dy_, tensor_, eig_;
+  cv::Mat dx_, dy_, tensor_[3], eig_;  // tensor_: gx², gx·gy, gy²
   std::vector<Candidate> candidates_;
   std::vector<std::vector<cv::Point2f>> grid_;
 };
