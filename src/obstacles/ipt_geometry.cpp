@@ -53,39 +53,36 @@ std::optional<double> MirrorAwareDiscrepancy(const CameraModel& camera, const Po
   return (moved - k * camera_motion).norm();
 }
 
-std::optional<Discrepancies> AllDiscrepancies(const CameraModel& camera, const Pose2& world_T_previous,
-                                              const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
-                                              const Eigen::Vector2d& current_pixel) {
-  const auto a = FloorPointWorld(camera, world_T_previous, previous_pixel);
-  const auto b = FloorPointWorld(camera, world_T_current, current_pixel);
-  if (!a || !b) return std::nullopt;
-  const Eigen::Vector2d camera_motion = world_T_current.Apply(camera.RobotCameraCentre().head<2>()) -
-                                        world_T_previous.Apply(camera.RobotCameraCentre().head<2>());
+namespace {
+
+// CameraModel::FloorPoint from the pixel's ray.
+std::optional<Eigen::Vector2d> FloorFromRay(const CameraModel& camera, const Eigen::Vector3d& d) {
+  if (d.z() >= -1e-9) return std::nullopt;
+  const double t = camera.height_m / -d.z();
+  return Eigen::Vector2d(t * d.x(), t * d.y());
+}
+
+// The three discrepancies from the two floor points (world frame) and the camera centre's motion.
+std::optional<Discrepancies> DiscrepanciesFrom(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                               const Eigen::Vector2d& camera_motion) {
   const double n2 = camera_motion.squaredNorm();
   if (n2 < 1e-24) return std::nullopt;
-  const Eigen::Vector2d moved = *b - *a;
+  const Eigen::Vector2d moved = b - a;
   const double along = moved.dot(camera_motion);
   const double k = std::clamp(along / n2, 0.0, 1.0);
   return Discrepancies{moved.norm(), -along / std::sqrt(n2), (moved - k * camera_motion).norm()};
 }
 
-namespace {
-Eigen::Vector3d WorldRay(const CameraModel& camera, const Pose2& world_T_robot, const Eigen::Vector2d& pixel) {
-  const Eigen::Vector3d r = camera.PixelRayRobot(pixel);
-  const double c = std::cos(world_T_robot.yaw), s = std::sin(world_T_robot.yaw);
+// A robot-frame ray turned by the yaw (cosine c, sine s) into the world.
+Eigen::Vector3d WorldRayFrom(double c, double s, const Eigen::Vector3d& r) {
   return {c * r.x() - s * r.y(), s * r.x() + c * r.y(), r.z()};
 }
-}  // namespace
 
-std::optional<double> MotionEpipolarErrorPx(const CameraModel& camera, const Pose2& world_T_previous,
-                                            const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
-                                            const Eigen::Vector2d& current_pixel) {
-  const Eigen::Vector2d c1 = world_T_previous.Apply(camera.RobotCameraCentre().head<2>());
-  const Eigen::Vector2d c2 = world_T_current.Apply(camera.RobotCameraCentre().head<2>());
+// MotionEpipolarErrorPx from the two camera centres and the two world rays.
+std::optional<double> EpipolarFrom(const CameraModel& camera, const Eigen::Vector2d& c1, const Eigen::Vector2d& c2,
+                                   const Eigen::Vector3d& r1, const Eigen::Vector3d& r2) {
   const Eigen::Vector3d baseline(c2.x() - c1.x(), c2.y() - c1.y(), 0.0);
   if (baseline.norm() < 1e-12) return std::nullopt;
-  const Eigen::Vector3d r1 = WorldRay(camera, world_T_previous, previous_pixel);
-  const Eigen::Vector3d r2 = WorldRay(camera, world_T_current, current_pixel);
   // Angle of ray `a` out of the plane spanned by the baseline and ray `b`.
   auto out_of_plane = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     const Eigen::Vector3d n = baseline.cross(b);
@@ -94,6 +91,55 @@ std::optional<double> MotionEpipolarErrorPx(const CameraModel& camera, const Pos
     return std::asin(std::min(1.0, std::abs(n.dot(a)) / norm));
   };
   return std::max(out_of_plane(r2, r1), out_of_plane(r1, r2)) * camera.fx;
+}
+
+}  // namespace
+
+std::optional<Discrepancies> AllDiscrepancies(const CameraModel& camera, const Pose2& world_T_previous,
+                                              const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
+                                              const Eigen::Vector2d& current_pixel) {
+  const auto a = FloorPointWorld(camera, world_T_previous, previous_pixel);
+  const auto b = FloorPointWorld(camera, world_T_current, current_pixel);
+  if (!a || !b) return std::nullopt;
+  const Eigen::Vector2d camera_motion = world_T_current.Apply(camera.RobotCameraCentre().head<2>()) -
+                                        world_T_previous.Apply(camera.RobotCameraCentre().head<2>());
+  return DiscrepanciesFrom(*a, *b, camera_motion);
+}
+
+std::optional<double> MotionEpipolarErrorPx(const CameraModel& camera, const Pose2& world_T_previous,
+                                            const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
+                                            const Eigen::Vector2d& current_pixel) {
+  const Eigen::Vector2d c1 = world_T_previous.Apply(camera.RobotCameraCentre().head<2>());
+  const Eigen::Vector2d c2 = world_T_current.Apply(camera.RobotCameraCentre().head<2>());
+  const Eigen::Vector3d r1 = WorldRayFrom(std::cos(world_T_previous.yaw), std::sin(world_T_previous.yaw),
+                                          camera.PixelRayRobot(previous_pixel));
+  const Eigen::Vector3d r2 = WorldRayFrom(std::cos(world_T_current.yaw), std::sin(world_T_current.yaw),
+                                          camera.PixelRayRobot(current_pixel));
+  return EpipolarFrom(camera, c1, c2, r1, r2);
+}
+
+PairGeometry::PairGeometry(const CameraModel& camera, const Pose2& world_T_previous, const Pose2& world_T_current)
+    : camera_(camera),
+      previous_{world_T_previous.x, world_T_previous.y, std::cos(world_T_previous.yaw), std::sin(world_T_previous.yaw)},
+      current_{world_T_current.x, world_T_current.y, std::cos(world_T_current.yaw), std::sin(world_T_current.yaw)},
+      centre_previous_(previous_.Apply(camera.RobotCameraCentre().head<2>())),
+      centre_current_(current_.Apply(camera.RobotCameraCentre().head<2>())) {}
+
+FeatureMeasures PairGeometry::Measure(const Eigen::Vector2d& previous_pixel, const Eigen::Vector2d& current_pixel) const {
+  FeatureMeasures m;
+  const Eigen::Vector3d ray_previous = camera_.PixelRayRobot(previous_pixel);
+  const Eigen::Vector3d ray_current = camera_.PixelRayRobot(current_pixel);
+  m.motion_epipolar_px = EpipolarFrom(camera_, centre_previous_, centre_current_,
+                                      WorldRayFrom(previous_.c, previous_.s, ray_previous),
+                                      WorldRayFrom(current_.c, current_.s, ray_current));
+  m.above_horizon = ray_current.z() >= -1e-9;
+  if (!m.above_horizon) {
+    const auto a = FloorFromRay(camera_, ray_previous);
+    const auto b = FloorFromRay(camera_, ray_current);
+    if (a && b)
+      m.discrepancies = DiscrepanciesFrom(previous_.Apply(*a), current_.Apply(*b), centre_current_ - centre_previous_);
+  }
+  return m;
 }
 
 bool AboveHorizon(const CameraModel& camera, const Eigen::Vector2d& pixel) {

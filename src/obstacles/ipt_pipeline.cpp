@@ -166,18 +166,21 @@ void IptPipeline::Process(const cv::Mat& previous_image, const cv::Mat& current_
     return;
   }
 
+  // Per feature: one viewing ray per pixel gives the horizon test, the discrepancies and the
+  // odometry epipolar residual (the values of AboveHorizon, AllDiscrepancies, MotionEpipolarErrorPx).
+  const PairGeometry geometry(m.camera, *previous_odom, *current_odom);
   for (std::size_t i = 0; i < m.matches.size(); ++i) {
     if (!F->inlier[i]) continue;
     MeasuredFeature f;
     f.pixel = {m.matches[i].current.x, m.matches[i].current.y};
     f.previous_pixel = {m.matches[i].previous.x, m.matches[i].previous.y};
-    f.motion_epipolar_px =
-        MotionEpipolarErrorPx(m.camera, *previous_odom, f.previous_pixel, *current_odom, f.pixel).value_or(0.0);
-    if (AboveHorizon(m.camera, f.pixel)) {
+    const FeatureMeasures measures = geometry.Measure(f.previous_pixel, f.pixel);
+    f.motion_epipolar_px = measures.motion_epipolar_px.value_or(0.0);
+    if (measures.above_horizon) {
       f.zone = kHorizonZone;
     } else {
       // A feature below the horizon now but above it before stands above the floor as well (no D).
-      if (const auto d = AllDiscrepancies(m.camera, *previous_odom, f.previous_pixel, *current_odom, f.pixel)) {
+      if (const auto& d = measures.discrepancies) {
         f.plain_discrepancy_m = d->plain_m;
         f.signed_discrepancy_m = d->signed_m;
         f.discrepancy_m = opt.mirror_aware ? d->mirror_aware_m : d->plain_m;

@@ -209,3 +209,40 @@ TEST(IptGeometry, SimulatedDiscrepancyMapVanishesWhereTheSphereIsUnderTheFloor) 
 
 }  // namespace
 }  // namespace squint::obstacles
+
+namespace squint::obstacles {
+namespace {
+
+// PairGeometry (what the pipeline runs per feature) gives exactly AboveHorizon, AllDiscrepancies and
+// MotionEpipolarErrorPx, with and without lens distortion, turning and straight motions.
+TEST(PairGeometry, EqualsTheSingleFunctions) {
+  CameraModel plain = PaperCamera();
+  CameraModel distorted = plain;
+  distorted.distortion = {-0.12, 0.03, 0.001, -0.0005, 0.0};
+  const Pose2 poses[][2] = {{{0.0, 0.0, 0.0}, {0.031, 0.0, 0.0}},
+                            {{1.2, -0.4, 0.3}, {1.23, -0.39, 0.33}},
+                            {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.2}}};  // pure rotation: no baseline
+  for (const CameraModel& cam : {plain, distorted})
+    for (const auto& [a, b] : poses) {
+      const PairGeometry geometry(cam, a, b);
+      for (double v = 0.0; v < 192.0; v += 7.3)
+        for (double u = 0.0; u < 256.0; u += 11.7) {
+          const Eigen::Vector2d previous(u, v), current(u + 1.3 - v * 0.01, v + 0.7);
+          const FeatureMeasures m = geometry.Measure(previous, current);
+          EXPECT_EQ(m.above_horizon, AboveHorizon(cam, current));
+          const auto epi = MotionEpipolarErrorPx(cam, a, previous, b, current);
+          ASSERT_EQ(m.motion_epipolar_px.has_value(), epi.has_value());
+          if (epi) EXPECT_EQ(*m.motion_epipolar_px, *epi);
+          if (m.above_horizon) continue;
+          const auto d = AllDiscrepancies(cam, a, previous, b, current);
+          ASSERT_EQ(m.discrepancies.has_value(), d.has_value()) << u << " " << v;
+          if (!d) continue;
+          EXPECT_EQ(m.discrepancies->plain_m, d->plain_m);
+          EXPECT_EQ(m.discrepancies->signed_m, d->signed_m);
+          EXPECT_EQ(m.discrepancies->mirror_aware_m, d->mirror_aware_m);
+        }
+    }
+}
+
+}  // namespace
+}  // namespace squint::obstacles

@@ -69,4 +69,30 @@ std::optional<double> MotionEpipolarErrorPx(const CameraModel& camera, const Pos
 // negative), so the feature is an obstacle without D. The ray is undistorted by the camera model.
 bool AboveHorizon(const CameraModel& camera, const Eigen::Vector2d& pixel);
 
+// What the pipeline measures per feature of one frame pair, from one viewing ray per pixel and the
+// poses' rotations computed once per pair: the same values as AboveHorizon(current pixel),
+// AllDiscrepancies() and MotionEpipolarErrorPx() (they share this code).
+struct FeatureMeasures {
+  bool above_horizon = false;                  // of the later pixel
+  std::optional<Discrepancies> discrepancies;  // only computed below the horizon
+  std::optional<double> motion_epipolar_px;
+};
+class PairGeometry {
+ public:
+  PairGeometry(const CameraModel& camera, const Pose2& world_T_previous, const Pose2& world_T_current);
+  FeatureMeasures Measure(const Eigen::Vector2d& previous_pixel, const Eigen::Vector2d& current_pixel) const;
+
+ private:
+  struct Frame {  // a pose with its yaw's cosine and sine
+    double x, y, c, s;
+    // Pose2::Apply's arithmetic.
+    Eigen::Vector2d Apply(const Eigen::Vector2d& p) const {
+      return {x + c * p.x() - s * p.y(), y + s * p.x() + c * p.y()};
+    }
+  };
+  const CameraModel& camera_;
+  Frame previous_, current_;
+  Eigen::Vector2d centre_previous_, centre_current_;  // the camera centre's floor point in the world
+};
+
 }  // namespace squint::obstacles
