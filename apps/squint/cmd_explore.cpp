@@ -32,6 +32,7 @@ struct ExploreCliOptions {
   double minutes = 45.0;
   std::uint64_t seed = 1;
   std::string out = "explore-out";
+  int eval_start = -1;  // >= 0: start i of `squint eval explore --seed SEED` (its pose and noise seed)
 };
 
 void RunExploreCommand(const ExploreCliOptions& opt) {
@@ -39,6 +40,11 @@ void RunExploreCommand(const ExploreCliOptions& opt) {
   eval::ExploreRunOptions run_opt;
   run_opt.minutes = opt.minutes;
   run_opt.seed = opt.seed;
+  if (opt.eval_start >= 0) {
+    // The same start pose and noise seed as run `eval_start` of `squint eval explore --seed SEED`.
+    run_opt.start = eval::SeededStarts(world, opt.eval_start + 1, opt.seed).back();
+    run_opt.seed = opt.seed + static_cast<std::uint64_t>(opt.eval_start);
+  }
   if (std::string e = run_opt.Validate(); !e.empty()) throw Error("explore: --minutes/--seed: " + e);
   io::StagedDirectory staged(opt.out);
   ProgressBar bar("explore " + world.name, 1000);
@@ -189,6 +195,9 @@ void Register(CLI::App& root) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--seed", opt->seed, "Seed for odometry and sensor noise")->capture_default_str();
   cmd->add_option("--out", opt->out, "Output folder: summary.json, map.png, trace.csv, events.csv")->capture_default_str();
+  cmd->add_option("--eval-start", opt->eval_start,
+                  "Run start I of `squint eval explore --seed SEED` (its start pose and noise seed) with full outputs")
+      ->check(CLI::Range(0, 999));
   cmd->callback([opt] { RunExploreCommand(*opt); });
 
   auto eopt = std::make_shared<EvalExploreOptions>();

@@ -80,6 +80,8 @@ std::string ExplorerOptions::Validate() const {
   if (!Positive(sonar_centre_max_lateral_m)) return "sonar_centre_max_lateral_m must be positive";
   if (!Positive(rescan_yaw_deg)) return "rescan_yaw_deg must be positive";
   if (!NonNegative(trust_memory_after_m)) return "trust_memory_after_m must be >= 0";
+  if (!(blind_view_fraction > 0.0 && blind_view_fraction <= 1.0)) return "blind_view_fraction must be in (0, 1]";
+  if (!NonNegative(blind_view_entropy_ratio)) return "blind_view_entropy_ratio must be >= 0";
   if (!Positive(side_window_m)) return "side_window_m must be positive";
   if (!Positive(side_wall_max_lateral_m)) return "side_wall_max_lateral_m must be positive";
   if (!NonNegative(branch_wall_before_m)) return "branch_wall_before_m must be >= 0";
@@ -157,7 +159,23 @@ Command Explorer::Step(const Percept& p) {
 
 void Explorer::UpdateSonar(const Percept& p) {
   if (p.sonar == nullptr) return;
-  memory_.Update(*p.sonar, p.odom_T_robot, p.stamp_s, p.sonar_near_blind_m);
+  const std::vector<SonarColumn>* scan = p.sonar;
+  if (opt_.blind_view_entropy_ratio > 0.0 && !p.sonar->empty() && p.glance_entropy_nats) {
+    int blocked = 0;
+    for (const SonarColumn& c : *p.sonar) blocked += c.kind == SonarReturn::kBlockedNear ? 1 : 0;
+    // Before any corridor was seen (start-up), the start's absolute "corridor view" entropy.
+    const double ref = ReferenceEntropy();
+    const double threshold = ref > 0.0 ? opt_.blind_view_entropy_ratio * ref : opt_.start_corridor_entropy_nats;
+    if (blocked >= opt_.blind_view_fraction * static_cast<double>(p.sonar->size()) && *p.glance_entropy_nats >= threshold) {
+      // A corridor view in the glance, no floor contrast in the sonar: no information.
+      sonar_copy_ = *p.sonar;
+      for (SonarColumn& c : sonar_copy_)
+        if (c.kind == SonarReturn::kBlockedNear) c.kind = SonarReturn::kUnknown;
+      scan = &sonar_copy_;
+      ++blind_views_;
+    }
+  }
+  memory_.Update(*scan, p.odom_T_robot, p.stamp_s, p.sonar_near_blind_m);
   memory_.Gather(p.odom_T_robot, p.stamp_s);
   sonar_seen_ = true;
   last_scan_yaw_ = p.odom_T_robot.yaw;

@@ -22,6 +22,8 @@ std::string ObstacleMemoryOptions::Validate() const {
   if (!(blind_points_keep_s > 0.0) || !std::isfinite(blind_points_keep_s)) return "blind_points_keep_s must be positive";
   if (confirm_scans < 0 || confirm_scans > 1000) return "confirm_scans must be in [0, 1000]";
   if (!(confirm_baseline_m >= 0.0) || !std::isfinite(confirm_baseline_m)) return "confirm_baseline_m must be >= 0";
+  if (!(blocked_view_fraction >= 0.0 && blocked_view_fraction <= 1.0)) return "blocked_view_fraction must be in [0, 1]";
+  if (blocked_view_scans < 1 || blocked_view_scans > 100) return "blocked_view_scans must be in [1, 100]";
   return {};
 }
 
@@ -39,6 +41,8 @@ void ObstacleMemory::Clear() {
     c.confirmed = false;
   }
   n_blocked_ = 0;
+  n_columns_ = 0;
+  blocked_view_run_ = 0;
   gathered_.clear();
 }
 
@@ -122,6 +126,7 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
   const double clear_margin = 1.5 * options_.cell_m;
   if (blocked_yaws_.size() < scan.size()) blocked_yaws_.resize(scan.size());
   n_blocked_ = 0;
+  n_columns_ = static_cast<int>(scan.size());
   blocked_from_ = o;
   blocked_range_m_ = near_blind_m;
   blocked_stamp_s_ = stamp_s;
@@ -148,6 +153,8 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
         break;
     }
   }
+  const bool view = n_columns_ > 0 && n_blocked_ >= options_.blocked_view_fraction * n_columns_;
+  blocked_view_run_ = view ? blocked_view_run_ + 1 : 0;
 }
 
 void ObstacleMemory::Gather(const Pose2& odom_T_robot, double stamp_s) {
@@ -188,11 +195,13 @@ double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double 
   // at the blind range.
   const double half = use_blocked ? std::asin(std::min(1.0, radius_m / std::max(options_.blocked_min_range_m, radius_m)))
                                   : std::atan2(radius_m, std::max(blocked_range_m_, radius_m));
+  // A wall filling the view: its blockage counts whatever the floor seen from farther back said.
+  const bool view_blocked = options_.blocked_view_fraction > 0.0 && blocked_view_run_ >= options_.blocked_view_scans;
   for (int i = 0; i < n_blocked_; ++i) {
     const double byaw = blocked_yaws_[static_cast<std::size_t>(i)];
     const double dy = std::remainder(byaw - yaw, 2.0 * M_PI);
     if (std::abs(dy) < half) {
-      if (!use_blocked && SeenFree(blocked_from_, byaw, radius_m, blocked_range_m_, blocked_stamp_s_)) continue;
+      if (!use_blocked && !view_blocked && SeenFree(blocked_from_, byaw, radius_m, blocked_range_m_, blocked_stamp_s_)) continue;
       free = std::min(free, std::max(0.0, (blocked_from_ - o).dot(d)));
       break;
     }

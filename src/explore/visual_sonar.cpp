@@ -26,6 +26,7 @@ std::string VisualSonarOptions::Validate() const {
   if (!(floor_edge_min_range_m >= 0.0) || !std::isfinite(floor_edge_min_range_m)) return "floor_edge_min_range_m must be >= 0";
   if (floor_edge_min_rows < 1 || floor_edge_min_rows > 16) return "floor_edge_min_rows must be in [1, 16]";
   if (min_reference_columns < 1 || min_reference_columns > 640) return "min_reference_columns must be in [1, 640]";
+  if (!(gradient_unknown_levels >= 0.0) || !std::isfinite(gradient_unknown_levels)) return "gradient_unknown_levels must be >= 0";
   return {};
 }
 
@@ -56,6 +57,7 @@ VisualSonar::VisualSonar(const CameraModel& camera, const VisualSonarOptions& op
   rows_.assign(static_cast<std::size_t>(w), -1);
   window_.assign(static_cast<std::size_t>(2 * options_.median_half_width + 1), 0.0);
   bottom_.assign(static_cast<std::size_t>(w), 0.0f);
+  top_.assign(static_cast<std::size_t>(w), 0.0f);
   ref_window_.assign(static_cast<std::size_t>(w), 0.0f);
   unknown_.assign(static_cast<std::size_t>(w), 0);
   edge_.assign(static_cast<std::size_t>(w), 0.0);
@@ -160,6 +162,10 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
     float bottom = 0.0f;
     for (int i = 0; i < options_.min_floor_rows + 1; ++i) bottom += profile_[static_cast<std::size_t>(h - 1 - i)];
     bottom_[static_cast<std::size_t>(u)] = bottom / static_cast<float>(options_.min_floor_rows + 1);
+    // Mean of the two rows just below the horizon (far floor, or the wall's face at camera height).
+    const int t0 = std::min(h - 1, top_row_ + 1);
+    const int t1 = std::min(h - 1, top_row_ + 2);
+    top_[static_cast<std::size_t>(u)] = 0.5f * (profile_[static_cast<std::size_t>(t0)] + profile_[static_cast<std::size_t>(t1)]);
   }
   // A column without any step is either filled by something near (a wall in the blind zone) or a
   // floor whose far boundary has too little contrast. Its bottom rows decide: unlike the floor
@@ -177,10 +183,17 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
     std::nth_element(ref_window_.begin(), ref_window_.begin() + n_ref / 2, ref_window_.begin() + n_ref);
     floor_ref = ref_window_[static_cast<std::size_t>(n_ref / 2)];
   }
+  // Without a reference, a column whose grey changes smoothly by more than gradient_unknown_levels
+  // from its bottom rows to the horizon shows the floor's perspective shading (a corridor whose
+  // far boundaries have no contrast), not one surface filling the view: unknown.
+  const float gradient = static_cast<float>(options_.gradient_unknown_levels);
   for (int u = 0; u < w; ++u) {
     unknown_[static_cast<std::size_t>(u)] = 0;
-    if (rows_[static_cast<std::size_t>(u)] >= 0 || floor_ref < 0.0f) continue;
-    if (std::abs(bottom_[static_cast<std::size_t>(u)] - floor_ref) <= thr) {
+    if (rows_[static_cast<std::size_t>(u)] >= 0) continue;
+    const bool unlike_floor = floor_ref < 0.0f
+                                  ? !(gradient > 0.0f && std::abs(top_[static_cast<std::size_t>(u)] - bottom_[static_cast<std::size_t>(u)]) > gradient)
+                                  : std::abs(bottom_[static_cast<std::size_t>(u)] - floor_ref) > thr;
+    if (!unlike_floor) {
       unknown_[static_cast<std::size_t>(u)] = 1;
       raw_[static_cast<std::size_t>(u)] = options_.max_range_m;
     }

@@ -208,6 +208,7 @@ struct ToyPlan {
   Pose2 pose;
   int frame = 0;
   std::vector<SonarColumn> scan;
+  bool blind_floor = false;  // a floor without contrast to the walls: every sonar column reads blocked near
   static constexpr double kBlind = 1.2;
 
   // Distance along a ray to the first wall (a large number when none).
@@ -252,7 +253,7 @@ struct ToyPlan {
         SonarColumn& c = scan[static_cast<std::size_t>(i)];
         c.bearing_rad = DegToRad(30.0 - 60.0 * (i + 0.5) / 64.0);
         const double r = Ray(pose.x, pose.y, pose.yaw + c.bearing_rad);
-        c.kind = r < kBlind ? SonarReturn::kBlockedNear : r > 6.0 ? SonarReturn::kFar : SonarReturn::kBoundary;
+        c.kind = r < kBlind || blind_floor ? SonarReturn::kBlockedNear : r > 6.0 ? SonarReturn::kFar : SonarReturn::kBoundary;
         c.range_m = c.kind == SonarReturn::kBoundary ? r : c.kind == SonarReturn::kFar ? 6.0 : 0.0;
       }
       p.sonar = &scan;
@@ -344,6 +345,41 @@ TEST(Explorer, WithoutBranchDetectionTheSideBranchIsPassed) {
   ASSERT_EQ(explorer.Turns(), 1);
   EXPECT_GT(max_x, 22.0);
   EXPECT_EQ(explorer.Events().back().turn_deg, 180);
+}
+
+// A corridor whose floor has the walls' grey: every sonar view reads blocked near (no step, no
+// floor reference), but the glance shows a corridor (open entropy) until the end wall comes within
+// the blind range. The explorer reads such views as no information and drives on by the corridor
+// cues; at the end wall the glance's entropy drops, the blockage counts, and it stops without
+// touching the wall. With the rule off the robot never gets going.
+TEST(Explorer, SonarBlindCorridorIsDrivenByTheGlanceAndTheEndWallStillStops) {
+  for (const bool rule : {true, false}) {
+    ToyPlan world;
+    world.walls = {{-1, 1, 12, 1}, {-1, -1, 12, -1}, {-1, -1, -1, 1}, {12, -1, 12, 1}};
+    world.pose = {1.0, 0.0, 0.0};
+    world.blind_floor = true;
+    ExplorerOptions o;
+    if (!rule) o.blind_view_entropy_ratio = 0.0;
+    Explorer explorer(o);
+    double max_x = 0.0;
+    bool hit_wall = false;
+    for (int i = 0; i < 30 * 40 && explorer.EndsDetected() == 0; ++i) {
+      world.Apply(explorer.Step(world.Perceive()));
+      max_x = std::max(max_x, world.pose.x);
+      for (double a = -kPi; a < kPi; a += kPi / 18)
+        if (world.Ray(world.pose.x, world.pose.y, a) < 0.25) hit_wall = true;
+    }
+    EXPECT_FALSE(hit_wall) << rule;
+    if (rule) {
+      EXPECT_GT(explorer.BlindViews(), 100);
+      EXPECT_EQ(explorer.EndsDetected(), 1);
+      EXPECT_GT(max_x, 10.0);   // down the corridor...
+      EXPECT_LT(max_x, 11.75);  // ...and stopped before the end wall (x = 12, disc radius 0.25)
+    } else {
+      EXPECT_EQ(explorer.BlindViews(), 0);
+      EXPECT_LT(max_x, 2.0);
+    }
+  }
 }
 
 TEST(Explorer, OptionsValidateNamesTheField) {

@@ -248,6 +248,33 @@ TEST(VisualSonar, StepsAtTheHorizonAreNoFloorReference) {
   for (int u = 24; u < 60; ++u) EXPECT_EQ(out2[static_cast<std::size_t>(u)].kind, SonarReturn::kBoundary) << "column " << u;
 }
 
+// A floor without contrast to the walls, seen down a corridor: no step anywhere, but the grey
+// changes smoothly by 60 levels from the bottom row to the horizon (perspective shading). That is
+// floor, not a wall filling the view: unknown. A view of one surface (within 10 levels from the
+// bottom to the horizon) stays blocked near; with the rule off the gradient is blocked near too.
+TEST(VisualSonar, SmoothFloorGradientWithoutReferenceIsUnknownNotBlocked) {
+  const CameraModel cam = SonarCamera();
+  const int horizon = static_cast<int>(std::floor(cam.HorizonRow()));
+  auto ramp = [&](int levels) {
+    Image im;
+    for (int v = 0; v < im.h; ++v) {
+      const double f = std::clamp((im.h - 1.0 - v) / (im.h - 1.0 - horizon), 0.0, 1.0);  // 0 bottom, 1 at the horizon
+      for (int u = 0; u < im.w; ++u) im.At(u, v) = static_cast<std::uint8_t>(100 + levels * f + ((u + v) % 2));
+    }
+    return im;
+  };
+  VisualSonar sonar(cam);
+  const Image floor = ramp(60);
+  // The ramp's steepest rows differ by ~3 levels: no step.
+  for (const SonarColumn& c : sonar.Process(floor.View())) EXPECT_EQ(c.kind, SonarReturn::kUnknown);
+  const Image wall = ramp(10);
+  for (const SonarColumn& c : sonar.Process(wall.View())) EXPECT_EQ(c.kind, SonarReturn::kBlockedNear);
+  VisualSonarOptions off;
+  off.gradient_unknown_levels = 0.0;
+  VisualSonar old(cam, off);
+  for (const SonarColumn& c : old.Process(floor.View())) EXPECT_EQ(c.kind, SonarReturn::kBlockedNear);
+}
+
 TEST(VisualSonar, BadInputIsAClearError) {
   const CameraModel cam = SonarCamera();
   VisualSonarOptions bad;
@@ -349,6 +376,49 @@ TEST(ObstacleMemory, BlockedNearStopsForwardTravelUnlessTheFloorThereWasSeen) {
   seen.Gather(Pose2{}, 1.0);
   EXPECT_EQ(seen.FreeTravel(Pose2{}, 0.0, 0.35, 5.0), 0.0);
   EXPECT_NEAR(seen.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, /*use_blocked=*/false), 1.3 - 0.35, 0.05);
+}
+
+// A wall filling the view on blocked_view_scans consecutive scans stops forward travel even where
+// the floor in the blind zone was seen from farther back (a wall with the floor's grey lets the
+// sonar "see" floor through it); a single such scan does not (a view without floor contrast).
+TEST(ObstacleMemory, WallFillingTheViewOnConsecutiveScansStopsDespiteFloorSeen) {
+  const CameraModel cam = SonarCamera();
+  std::vector<SonarColumn> blocked = WallScan(cam, 2.0);
+  for (SonarColumn& c : blocked) {
+    c.kind = SonarReturn::kBlockedNear;
+    c.range_m = 0.0;
+  }
+  const int need = ObstacleMemoryOptions{}.blocked_view_scans;
+  ASSERT_GE(need, 2);
+  for (int scans = 1; scans <= need; ++scans) {
+    ObstacleMemory mem;
+    mem.Update(WallScan(cam, 3.3), Pose2{-2.0, 0.0, 0.0}, 0.0, 1.2);  // floor seen to 1.3 m ahead of the pose below
+    for (int k = 0; k < scans; ++k) mem.Update(blocked, Pose2{}, 1.0 + 0.1 * k, 1.2);
+    mem.Gather(Pose2{}, 1.0 + 0.1 * scans);
+    const double free = mem.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, /*use_blocked=*/false);
+    if (scans < need) EXPECT_NEAR(free, 1.3 - 0.35, 0.05) << scans << " scans";
+    else EXPECT_EQ(free, 0.0) << scans << " scans";
+  }
+  // Fewer blocked columns than blocked_view_fraction: the floor seen still counts.
+  std::vector<SonarColumn> half = WallScan(cam, 3.3);
+  for (std::size_t i = 0; i < half.size(); ++i)
+    if (i % 2 == 0) {
+      half[i].kind = SonarReturn::kBlockedNear;
+      half[i].range_m = 0.0;
+    }
+  ObstacleMemory mem;
+  mem.Update(WallScan(cam, 3.3), Pose2{-2.0, 0.0, 0.0}, 0.0, 1.2);
+  for (int k = 0; k < need + 2; ++k) mem.Update(half, Pose2{}, 1.0 + 0.1 * k, 1.2);
+  mem.Gather(Pose2{}, 2.0);
+  EXPECT_GT(mem.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, /*use_blocked=*/false), 0.9);
+  // Off: as before, the floor seen counts.
+  ObstacleMemoryOptions off;
+  off.blocked_view_fraction = 0.0;
+  ObstacleMemory old(off);
+  old.Update(WallScan(cam, 3.3), Pose2{-2.0, 0.0, 0.0}, 0.0, 1.2);
+  for (int k = 0; k < need + 2; ++k) old.Update(blocked, Pose2{}, 1.0 + 0.1 * k, 1.2);
+  old.Gather(Pose2{}, 2.0);
+  EXPECT_NEAR(old.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, /*use_blocked=*/false), 1.3 - 0.35, 0.05);
 }
 
 // A corner seen blocked near on the right, then out of view after the robot turned left: the

@@ -103,6 +103,16 @@ struct ExplorerOptions {
   double sonar_centre_max_lateral_m = 1.8;  // side points farther than this do not centre
   double rescan_yaw_deg = 12.0;       // no forward motion until a scan was taken at the heading
   double trust_memory_after_m = 1.6;  // following: blocked-near columns ignored after this travel
+  // A sonar view whose columns are nearly all blocked near (at least blind_view_fraction) is either
+  // a wall filling the view or a floor without any contrast to the walls (default's carpeted
+  // middle corridor, corridor-2). The glance tells them apart: looking down a corridor its entropy
+  // stays near the corridor's reference (ceiling lights, converging walls), while a wall within
+  // the blind range fills the 32x24 view and its entropy drops. At or above
+  // blind_view_entropy_ratio x the reference entropy the blocked-near columns are read as unknown
+  // (no information: the memory and the stall guard remain); before any reference (start-up), at
+  // or above start_corridor_entropy_nats. 0 turns this off.
+  double blind_view_fraction = 0.75;
+  double blind_view_entropy_ratio = 0.9;
   // Side branches met while following (a T met from its bar), from the sonar's memory: a side
   // wall seen abeam (within side_window_m along the axis, side_wall_max_lateral_m across) over
   // branch_wall_before_m of travel, then no wall abeam, is an opening; its far edge is the
@@ -193,6 +203,8 @@ class Explorer {
   // Frames on which the obstacle override steered (or stopped) the robot, and its stop-and-turns.
   long ObstacleOverrides() const { return avoid_overrides_; }
   int ObstacleStops() const { return avoid_stops_; }
+  // Sonar scans whose blocked-near view was read as unknown (blind_view_entropy_ratio).
+  long BlindViews() const { return blind_views_; }
 
  private:
   struct Rotation {
@@ -294,6 +306,8 @@ class Explorer {
 
   // Visual sonar.
   ObstacleMemory memory_;
+  std::vector<SonarColumn> sonar_copy_;  // a scan with blocked-near columns read as unknown (blind view)
+  long blind_views_ = 0;
   bool sonar_seen_ = false;
   double last_scan_yaw_ = 0.0;
   long speed_limited_ = 0;

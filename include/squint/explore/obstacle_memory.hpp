@@ -40,6 +40,13 @@ struct ObstacleMemoryOptions {
   // world, 45 min: coverage 0.85 -> 0.12 with 3 scans / 0.3 m, the robot penned in by such points).
   int confirm_scans = 0;
   double confirm_baseline_m = 1.0;
+  // A scan with at least this fraction of its columns blocked near shows a wall filling the view
+  // (nothing of the floor in sight): its blockage stops forward travel even where the floor in the
+  // blind zone was seen from farther back (FreeTravel's use_blocked = false). Floor "seen" through
+  // a wall that has the floor's grey (corridor-2's panels over its carpet) is no proof. 0 turns
+  // it off.
+  double blocked_view_fraction = 0.75;
+  int blocked_view_scans = 3;  // ...on this many consecutive scans (a single one is often a view without floor contrast)
   std::string Validate() const;
 };
 
@@ -58,7 +65,8 @@ class ObstacleMemory {
   // pose along odometry yaw `yaw` before it touches a remembered point; zero along a direction
   // the latest scan saw blocked nearer than its blind range.
   // `use_blocked`: false ignores those of the latest scan's blocked-near columns along which the
-  // floor in the blind zone was seen from farther back (a robot that drove into its present view).
+  // floor in the blind zone was seen from farther back (a robot that drove into its present view),
+  // unless the scan's view was blocked (blocked_view_fraction).
   double FreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m, bool use_blocked = true) const;
   // Nearest remembered point abeam on each side, as lateral distances from the robot along the
   // axis `axis_yaw` (odometry frame), among points within ±along_window_m along the axis.
@@ -94,6 +102,8 @@ class ObstacleMemory {
   // The latest scan's blocked-near columns (odometry yaws), where it was taken, its blind range.
   std::vector<double> blocked_yaws_;
   int n_blocked_ = 0;
+  int n_columns_ = 0;  // columns of the latest scan
+  int blocked_view_run_ = 0;  // consecutive scans with a blocked view (blocked_view_fraction)
   Eigen::Vector2d blocked_from_ = Eigen::Vector2d::Zero();
   double blocked_range_m_ = 0.0;
   double blocked_stamp_s_ = 0.0;

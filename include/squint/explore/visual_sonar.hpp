@@ -25,6 +25,12 @@ struct VisualSonarOptions {
   // Columns without a step are told apart (blocked near / unknown) by the floor of the columns
   // with a step; fewer such columns than this: no reference (blocked near).
   int min_reference_columns = 8;
+  // Without that reference, a column whose mean grey just below the horizon differs from its
+  // bottom rows' by more than this (grey levels) is unknown rather than blocked near: a smooth
+  // floor gradient (perspective shading of a floor whose far boundary has no contrast, corridor-2's
+  // carpet) and not one surface filling the view (a wall within the blind range looks nearly the
+  // same from its foot to camera height). 0 turns it off.
+  double gradient_unknown_levels = 30.0;
   // Floor-material edges (tiles to carpet) are not walls. Above a wall's base a vertical face
   // rises through the horizon; above a floor edge lies more floor, up to the next boundary. A
   // step followed, at least floor_edge_min_rows higher, by a second step below the horizon whose
@@ -94,6 +100,7 @@ class VisualSonar {
   std::vector<int> rows_;
   std::vector<double> window_;
   std::vector<float> bottom_;      // per column: mean of the bottom rows
+  std::vector<float> top_;         // per column: mean of the two rows below the horizon
   std::vector<float> ref_window_;
   std::vector<std::uint8_t> unknown_;
   std::vector<double> edge_;       // per column: floor-edge range crossed (0: none)
