@@ -133,6 +133,9 @@ void Register(CLI::App& root) {
   cmd->add_option("--ttc-cell-quantile", opt->fit.ttc_cell_quantile,
                   "Quantile of the cells' magnifications that is the estimate")
       ->capture_default_str();
+  cmd->add_option("--ttc-cell-nearest", opt->fit.ttc_cell_nearest,
+                  "Only this many cells nearest the expansion centre count (0 = all)")
+      ->capture_default_str();
   cmd->add_flag("--heading-weights-from-variance", opt->fit.heading_weights_from_variance,
                 "Set each heading cue's fusion weight to 1/sigma^2 of its calibrated error (the paper's rule; "
                 "default: keep the base options' weights)");

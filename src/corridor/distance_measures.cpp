@@ -410,6 +410,7 @@ std::optional<CellScales> CellExpansionScales(const Glance& earlier, const Glanc
       if (std::sqrt(var) < min_contrast) continue;
       const GnResult r = RefineScale(earlier, current, w, cx, cy, start_scale, max_scale);
       if (r.ncc < min_ncc || !(r.se <= max_se)) continue;
+      out.radius_px[out.count] = std::hypot(0.5 * (cu0 + cu1) - cx, 0.5 * (cv0 + cv1) - cy);
       out.scale[out.count++] = r.scale;
     }
   return out;
@@ -459,9 +460,22 @@ void TimeToContactDistance::MeasureScale(const Glance& earlier, const Glance& cu
     std::optional<CellScales> cells = CellExpansionScales(
         earlier, current, cx_, cy_, half_w, half_h, options_.ttc_max_scale, m->scale, options_.ttc_cell_px,
         options_.ttc_min_contrast, options_.ttc_min_ncc, options_.ttc_cell_max_se_fraction * expected);
-    if (cells && cells->count >= options_.ttc_cell_min_count)
-      scale = LowerQuantile(std::span<double>(cells->scale.data(), static_cast<std::size_t>(cells->count)),
+    if (cells && cells->count >= options_.ttc_cell_min_count) {
+      int n = cells->count;
+      if (options_.ttc_cell_nearest > 0 && n > options_.ttc_cell_nearest) {
+        // Only the cells nearest the expansion centre (where the end of the corridor is).
+        std::array<int, kMaxTtcCells> order{};
+        for (int k = 0; k < n; ++k) order[k] = k;
+        std::partial_sort(order.begin(), order.begin() + options_.ttc_cell_nearest, order.begin() + n,
+                          [&](int a, int b) { return cells->radius_px[a] < cells->radius_px[b]; });
+        std::array<double, kMaxTtcCells> nearest{};
+        for (int k = 0; k < options_.ttc_cell_nearest; ++k) nearest[k] = cells->scale[order[k]];
+        cells->scale = nearest;
+        n = options_.ttc_cell_nearest;
+      }
+      scale = LowerQuantile(std::span<double>(cells->scale.data(), static_cast<std::size_t>(n)),
                             options_.ttc_cell_quantile);
+    }
   }
   out.raw = scale - 1.0;
   if (!(scale > 1.0)) return SetNoEstimate(out, Reason::kNotApproaching);

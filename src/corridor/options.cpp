@@ -157,6 +157,7 @@ std::string DistanceOptions::Validate() const {
     e << "distance.ttc_cell_quantile must be in [0, 1]; ";
   if (ttc_cell_min_count < 1) e << "distance.ttc_cell_min_count must be >= 1; ";
   if (!(ttc_cell_max_se_fraction > 0.0)) e << "distance.ttc_cell_max_se_fraction must be positive; ";
+  if (ttc_cell_nearest < 0 || ttc_cell_nearest > 96) e << "distance.ttc_cell_nearest must be in [0, 96]; ";
   if (!Finite(ttc_cell_min_expansion) || ttc_cell_min_expansion < 0.0)
     e << "distance.ttc_cell_min_expansion must be >= 0; ";
   if (ttc_max_baseline_frames < 1 || ttc_max_baseline_frames > kMaxTtcBaselineFrames)

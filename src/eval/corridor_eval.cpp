@@ -303,6 +303,7 @@ std::string CalibrateOptions::Validate() const {
   if (!std::isfinite(ttc_cell_px) || (ttc_cell_px != 0.0 && ttc_cell_px < 3.0))
     return "ttc_cell_px must be 0 (keep the base's) or >= 3";
   if (!(ttc_cell_quantile >= 0.0 && ttc_cell_quantile <= 1.0)) return "ttc_cell_quantile must be in [0, 1]";
+  if (ttc_cell_nearest < 0 || ttc_cell_nearest > 96) return "ttc_cell_nearest must be in [0, 96]";
   if (std::string s = heading.Validate(); !s.empty()) return "heading: " + s;
   if (std::string s = distance.Validate(); !s.empty()) return "distance: " + s;
   return {};
@@ -314,6 +315,7 @@ corridor::CorridorOptions CalibrationBaseOptions(const corridor::CorridorOptions
   if (options.fit_distance && options.ttc_cell_px > 0.0 && base.distance.ttc_cell_px == 0.0) {
     out.distance.ttc_cell_px = options.ttc_cell_px;
     out.distance.ttc_cell_quantile = options.ttc_cell_quantile;
+    out.distance.ttc_cell_nearest = options.ttc_cell_nearest;
   }
   return out;
 }

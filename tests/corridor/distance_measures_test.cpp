@@ -268,6 +268,34 @@ TEST(CellExpansionScales, LowQuantileRecoversTheFarthestStructure) {
   EXPECT_DOUBLE_EQ(LowerQuantile(v, 1.0), 5.0);
 }
 
+// The end of the corridor (a 15 × 13 px block about the expansion centre) magnified by 1.04,
+// everything around it by 1.2: with the two cells nearest the centre the scale search reads the
+// end wall's distance, s / 0.04 = 10 m for 0.4 m of travel; with every cell's median, the near
+// structure's, about 2 m.
+TEST(TimeToContact, NearestCellsReadTheEndOfTheCorridor) {
+  const double cx = 15.5, cy = 11.5;
+  const Glance a = TexturedPattern(1.0, cx, cy);
+  Glance b;
+  for (int v = 0; v < kGlanceHeight; ++v)
+    for (int u = 0; u < kGlanceWidth; ++u) {
+      const double k = std::abs(u - cx) <= 7.0 && std::abs(v - cy) <= 6.0 ? 1.04 : 1.2;
+      b.At(u, v) = TexturedPattern(k, cx, cy).At(u, v);
+    }
+  DistanceOptions o;
+  o.ttc_cell_px = 6.0;
+  o.ttc_cell_quantile = 0.5;
+  o.ttc_cell_nearest = 2;
+  DistanceMeasureResult near_cells;
+  TimeToContactDistance(o, cx, cy).MeasureScale(a, b, 4, 0.4, std::nullopt, near_cells);
+  ASSERT_TRUE(near_cells.model_input.has_value());
+  EXPECT_NEAR(*near_cells.model_input, 10.0, 1.0);
+  o.ttc_cell_nearest = 0;
+  DistanceMeasureResult all_cells;
+  TimeToContactDistance(o, cx, cy).MeasureScale(a, b, 4, 0.4, std::nullopt, all_cells);
+  ASSERT_TRUE(all_cells.model_input.has_value());
+  EXPECT_LT(*all_cells.model_input, 3.0);
+}
+
 TEST(TimeToContact, ScaleSearchGivesTheCurrentDistanceAndRefusesPlainWalls) {
   // 4 frames of 0.1 m: the plane is 10 m from the current frame, 10.4 m from the earlier one.
   const double cx = 15.5, cy = 11.5;

@@ -190,6 +190,7 @@ TEST(CalibrationBaseOptions, TurnsTheFarStructureCellsOnUnlessTheBaseSetsThemOrN
   const corridor::CorridorOptions on = CalibrationBaseOptions(defaults, {});
   EXPECT_EQ(on.distance.ttc_cell_px, 6.0);
   EXPECT_EQ(on.distance.ttc_cell_quantile, 0.5);
+  EXPECT_EQ(on.distance.ttc_cell_nearest, 8);
   EXPECT_TRUE(on.Validate().empty());
   corridor::CorridorOptions mine;
   mine.distance.ttc_cell_px = 4.0;
@@ -209,12 +210,16 @@ TEST(CalibrationBaseOptions, TurnsTheFarStructureCellsOnUnlessTheBaseSetsThemOrN
   bad.ttc_cell_px = 6.0;
   bad.ttc_cell_quantile = 1.5;
   EXPECT_FALSE(bad.Validate().empty());
+  bad.ttc_cell_quantile = 0.5;
+  bad.ttc_cell_nearest = -1;
+  EXPECT_FALSE(bad.Validate().empty());
   // The written options carry the cells through the file.
   CorridorCalibrationFile file;
   file.options = on;
   const CorridorCalibrationFile back = CalibrationFileFromYaml(CalibrationFileToYaml(file), "mem");
   EXPECT_EQ(back.options.distance.ttc_cell_px, 6.0);
   EXPECT_EQ(back.options.distance.ttc_cell_quantile, 0.5);
+  EXPECT_EQ(back.options.distance.ttc_cell_nearest, 8);
 }
 
 TEST(FitCorridorCalibration, RefusesRunsWithoutTruthOrWithOneHeading) {

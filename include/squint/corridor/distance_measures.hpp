@@ -55,6 +55,7 @@ std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& cu
 inline constexpr int kMaxTtcCells = 96;
 struct CellScales {
   std::array<double, kMaxTtcCells> scale{};
+  std::array<double, kMaxTtcCells> radius_px{};  // of the cell's centre from the expansion centre
   int count = 0;
 };
 std::optional<CellScales> CellExpansionScales(const Glance& earlier, const Glance& current, double cx, double cy,

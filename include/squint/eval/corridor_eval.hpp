@@ -146,12 +146,16 @@ struct CalibrateOptions {
   // each cue's fitted σ as its measurement noise (always written to the cues' std_deg).
   bool heading_filter = true;
   // Time to contact's far-structure cells (corridor::DistanceOptions::ttc_cell_px,
-  // ttc_cell_quantile): used for the fit's own run and written to the options, unless the base
-  // options already set cells (then theirs). 0 = keep the base's (off by default). 6 px and the
-  // median, chosen on the calibration drives drive-3-00* (docs/calibration.md): fused 0.94 /
-  // 3.72 m -> 0.57 / 3.24 m RMSE at 0.3–5 / 5–15 m there.
+  // ttc_cell_quantile, ttc_cell_nearest): used for the fit's own run and written to the
+  // options, unless the base options already set cells (then theirs). 0 = keep the base's (off
+  // by default). 6 px and the median, chosen on the calibration drives drive-3-00*
+  // (docs/calibration.md): fused 0.94 / 3.72 m -> 0.57 / 3.24 m RMSE at 0.3–5 / 5–15 m there.
   double ttc_cell_px = 6.0;
   double ttc_cell_quantile = 0.5;
+  // ... over the ttc_cell_nearest cells nearest the expansion centre (0 = all): 8 on both
+  // calibration sets, drive-3-00* fused 0.60 / 3.24 -> 0.40 / 2.87 m, the simulator's
+  // corridor-0…4 drives 4.12 / 2.78 -> 4.16 / 2.63 m.
+  int ttc_cell_nearest = 8;
   std::string Validate() const;
 };
 
