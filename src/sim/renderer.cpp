@@ -155,7 +155,7 @@ struct Renderer::Impl {
   std::vector<WallFast> wall_fast;  // [0] a sentinel that no ray meets (wall index -1), then the walls
   const WallFast* wf = nullptr;      // &wall_fast[1]
   std::vector<WallLight> wall_light;
-  std::vector<float> wall_irr;
+  std::vector<float> wall_irr;  // per wall (offset): nz rows of nu samples along it
   std::vector<int> decal_begin, decal_end;  // per wall, into `decals`
   std::vector<Decal> decals;
   bool has_mirrors = false;
@@ -177,6 +177,7 @@ struct Renderer::Impl {
   // region keys (key1 << 32 | key2, bit 63 set for `exact`) and the texture coordinates.
   std::vector<std::uint64_t> corner_cls;
   std::vector<double> corner_tu, corner_tv;
+  std::vector<double> pix_mean;      // per frame, per pixel: mean radiance
   std::vector<double> corner_dx, corner_dy;  // per frame: world-frame horizontal directions
   std::vector<int> corner_id;                // per frame: bearing-table wall (PrepareAdaptive)
   std::vector<double> corner_r;
@@ -283,6 +284,7 @@ struct Renderer::Impl {
       corner_tu.resize(corners.size());
       corner_tv.resize(corners.size());
       corner_dx.resize(corners.size());
+      pix_mean.resize(static_cast<std::size_t>(cam.width) * cam.height);
       corner_dy.resize(corners.size());
       corner_id.resize(corners.size());
       corner_r.resize(corners.size());
@@ -457,6 +459,15 @@ struct Renderer::Impl {
       }
     }
 
+    // Stored height-major (rows along the wall): the two columns a lookup interpolates, and
+    // neighbouring samples at one height, share cache lines.
+    {
+      std::vector<float> rows(wall_irr.size());
+      for (const WallLight& wl : wall_light)
+        for (int iu = 0; iu < wl.nu; ++iu)
+          for (int iz = 0; iz < wl.nz; ++iz) rows[wl.offset + static_cast<std::size_t>(iz) * wl.nu + iu] = wall_irr[wl.offset + static_cast<std::size_t>(iu) * wl.nz + iz];
+      wall_irr.swap(rows);
+    }
     for (WallLight& wl : wall_light) {
       wl.fu_max = wl.nu - 2.0;
       wl.irr = wall_irr.data() + wl.offset;
@@ -477,7 +488,7 @@ struct Renderer::Impl {
       double* t = wall_sat.data() + wl.sat_offset;
       for (int iu = 0; iu < wl.nu; ++iu)
         for (int iz = 0; iz < wl.nz; ++iz)
-          t[(iu + 1) * sn + iz + 1] = wl.irr[iu * wl.nz + iz] + t[iu * sn + iz + 1] + t[(iu + 1) * sn + iz] - t[iu * sn + iz];
+          t[(iu + 1) * sn + iz + 1] = wl.irr[iz * wl.nu + iu] + t[iu * sn + iz + 1] + t[(iu + 1) * sn + iz] - t[iu * sn + iz];
     }
 
     // Obstacles: top and mean side irradiance.
@@ -835,10 +846,9 @@ struct Renderer::Impl {
     const WallLight& wl = wall_light[w];
     const double fu = std::clamp((along - wl.lo) * (1.0 / kWallCell), 0.0, wl.fu_max);
     const int iu = static_cast<int>(fu);
-    const int nz = wl.nz;
-    const int iz = std::clamp(static_cast<int>(z * (1.0 / kWallCell) + 0.5), 0, nz - 1);
-    const float* col = wl.irr + (iu * nz + iz);
-    return col[0] + (fu - iu) * (col[nz] - col[0]);
+    const int iz = std::clamp(static_cast<int>(z * (1.0 / kWallCell) + 0.5), 0, wl.nz - 1);
+    const float* col = wl.irr + (iz * wl.nu + iu);
+    return col[0] + (fu - iu) * (col[1] - col[0]);
   }
 
   // Mean of a piecewise-constant table over the box [a0, a1] × [b0, b1] in cell units (clamped to
@@ -1442,9 +1452,13 @@ struct Renderer::Impl {
       Surf surf;
       if (by_bins) {
         const int w0 = edge_wall[s->bin], w1 = edge_wall[s->bin + 1];
-        const double t0 = WallDistance(w0, dx, dy), t1 = WallDistance(w1, dx, dy);
-        r = t0 <= t1 ? t0 : t1;
-        id = t0 <= t1 ? w0 : w1;
+        r = WallDistance(w0, dx, dy);
+        id = w0;
+        if (w1 != w0) {
+          const double t1 = WallDistance(w1, dx, dy);
+          id = r <= t1 ? w0 : w1;
+          r = r <= t1 ? r : t1;
+        }
         if (r == kInf) {  // a sliver wall inside the bin: trace this sample
           double tx, ty;
           sum += Shade(Trace(*s, tx, ty), px, py, cam_h, dx, dy, s->k, depth);
@@ -1701,6 +1715,19 @@ struct Renderer::Impl {
     const bool noisy = options.noise_sigma > 0;
     const std::uint64_t key = SplitMix(options.seed ^ SplitMix(frame_id + 0x1234567ull));
     const Sample* s = samples.data();
+    if (adaptive && !label && !range) {
+      // The pixels' means first, then the response and the noise in a pass of their own (its
+      // noise-table reads, 256 KB apart, then overlap instead of waiting behind each pixel).
+      double* mean = pix_mean.data();
+      for (int v = 0; v < camera.height; ++v)
+        for (int u = 0; u < camera.width; ++u, s += nn) *mean++ = PixelAdaptiveFast(u, v, s);
+      mean = pix_mean.data();
+      for (int v = 0; v < camera.height; ++v) {
+        std::uint8_t* row = image.Row(v);
+        for (int u = 0; u < camera.width; ++u) row[u] = Respond(*mean++, lut_scale, noisy, key, u, v);
+      }
+      return;
+    }
     for (int v = 0; v < camera.height; ++v) {
       std::uint8_t* row = image.Row(v);
       for (int u = 0; u < camera.width; ++u, s += nn) {
@@ -1715,13 +1742,7 @@ struct Renderer::Impl {
         } else {
           mean = PixelTraced(s);
         }
-        const int li = std::min(kGammaLutSize - 1, static_cast<int>(mean * lut_scale));
-        double grey = gamma_lut[std::max(0, li)];
-        if (noisy) {
-          const std::uint64_t h = SplitMix(key ^ (static_cast<std::uint64_t>(v) * 100003u + u));
-          grey += options.noise_sigma * normal_table[h & 0xFFFF];
-        }
-        row[u] = static_cast<std::uint8_t>(std::clamp(grey + 0.5, 0.0, 255.0));  // rounds half up (truncation of a non-negative value)
+        row[u] = Respond(mean, lut_scale, noisy, key, u, v);
         if (label || range) {
           const Sample& c = n > 1 ? centres[static_cast<std::size_t>(v) * camera.width + u] : *s;
           double dx, dy;
@@ -1731,6 +1752,18 @@ struct Renderer::Impl {
         }
       }
     }
+  }
+
+  // A pixel's grey level from its mean radiance: exposure, response curve, noise keyed by
+  // (key, pixel), rounded half up.
+  [[gnu::always_inline]] std::uint8_t Respond(double mean, double lut_scale, bool noisy, std::uint64_t key, int u, int v) const {
+    const int li = std::min(kGammaLutSize - 1, static_cast<int>(mean * lut_scale));
+    double grey = gamma_lut[std::max(0, li)];
+    if (noisy) {
+      const std::uint64_t h = SplitMix(key ^ (static_cast<std::uint64_t>(v) * 100003u + u));
+      grey += options.noise_sigma * normal_table[h & 0xFFFF];
+    }
+    return static_cast<std::uint8_t>(std::clamp(grey + 0.5, 0.0, 255.0));  // rounds half up (truncation of a non-negative value)
   }
 };
 
