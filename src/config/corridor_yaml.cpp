@@ -169,6 +169,7 @@ void ReadDistance(const YAML::Node& node, const std::string& source, corridor::D
   r.Get("ttc_cell_max_se_fraction", d.ttc_cell_max_se_fraction);
   r.Get("ttc_cell_min_expansion", d.ttc_cell_min_expansion);
   r.Get("ttc_cell_nearest", d.ttc_cell_nearest);
+  r.Get("ttc_cell_nearest_at_min_window", d.ttc_cell_nearest_at_min_window);
   r.CheckUnknown();
 }
 
@@ -312,6 +313,7 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
   e << YAML::Key << "ttc_cell_max_se_fraction" << YAML::Value << d.ttc_cell_max_se_fraction;
   e << YAML::Key << "ttc_cell_min_expansion" << YAML::Value << d.ttc_cell_min_expansion;
   e << YAML::Key << "ttc_cell_nearest" << YAML::Value << d.ttc_cell_nearest;
+  e << YAML::Key << "ttc_cell_nearest_at_min_window" << YAML::Value << d.ttc_cell_nearest_at_min_window;
   e << YAML::EndMap;
   e << YAML::Key << "gate" << YAML::Value << YAML::BeginMap << YAML::Key << "enabled" << YAML::Value
     << o.gate.enabled << YAML::Key << "threshold" << YAML::Value << o.gate.threshold << YAML::Key

@@ -462,7 +462,11 @@ void TimeToContactDistance::MeasureScale(const Glance& earlier, const Glance& cu
         options_.ttc_min_contrast, options_.ttc_min_ncc, options_.ttc_cell_max_se_fraction * expected);
     if (cells && cells->count >= options_.ttc_cell_min_count) {
       int n = cells->count;
-      if (options_.ttc_cell_nearest > 0 && n > options_.ttc_cell_nearest) {
+      // ttc_cell_nearest_at_min_window: only while the window is at its minimum size (far away,
+      // where it holds more than the end wall).
+      const bool at_min = half_w <= min_w + 1e-9 && half_h <= min_h + 1e-9;
+      if (options_.ttc_cell_nearest > 0 && n > options_.ttc_cell_nearest &&
+          (!options_.ttc_cell_nearest_at_min_window || at_min)) {
         // Only the cells nearest the expansion centre (where the end of the corridor is).
         std::array<int, kMaxTtcCells> order{};
         for (int k = 0; k < n; ++k) order[k] = k;

@@ -61,6 +61,7 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   o.distance.ttc_cell_max_se_fraction = 0.6;
   o.distance.ttc_cell_min_expansion = 0.03;
   o.distance.ttc_cell_nearest = 5;
+  o.distance.ttc_cell_nearest_at_min_window = true;
   o.gate.threshold = 0.02;
   o.gate.enabled = false;
   o.gate.compare_with_last_processed = false;
@@ -107,6 +108,7 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   EXPECT_EQ(back.distance.ttc_cell_max_se_fraction, 0.6);
   EXPECT_EQ(back.distance.ttc_cell_min_expansion, 0.03);
   EXPECT_EQ(back.distance.ttc_cell_nearest, 5);
+  EXPECT_TRUE(back.distance.ttc_cell_nearest_at_min_window);
   EXPECT_EQ(back.gate.threshold, 0.02);
   EXPECT_FALSE(back.gate.enabled);
   EXPECT_FALSE(back.gate.compare_with_last_processed);

@@ -254,6 +254,9 @@ struct DistanceOptions {
   // Only the ttc_cell_nearest cells whose centres are nearest the expansion centre count (0 =
   // all cells).
   int ttc_cell_nearest = 0;
+  // ... only while the window is at its minimum size (far away; nearer, the window sized by the
+  // end wall holds the end wall only and every cell counts).
+  bool ttc_cell_nearest_at_min_window = false;
   // Process(frame) gives time to contact an area-averaged glance of the frame (the other
   // measures keep options.sampling): point sampling aliases fine wall texture, which then does
   // not scale with the distance (drive-* test split: 1.66 m RMSE within 5 m point-sampled,
