@@ -110,6 +110,7 @@ struct Renderer::Impl {
   int bins = 0;
   double a_min = 0, d_a = 1;
   std::vector<double> edge_c, edge_s;  // robot-frame direction of each bin edge
+  std::vector<double> edge_dx, edge_dy;  // per frame: its world-frame direction
   std::vector<int> edge_wall;
   std::vector<double> edge_t;
   std::vector<int> bin_count;
@@ -295,6 +296,8 @@ struct Renderer::Impl {
       col_nobs.resize(cam.width);
     }
     edge_c.resize(bins + 1);
+    edge_dx.resize(bins + 1);
+    edge_dy.resize(bins + 1);
     edge_s.resize(bins + 1);
     for (int e = 0; e <= bins; ++e) {
       edge_c[e] = std::cos(a_min + e * d_a);
@@ -523,7 +526,11 @@ struct Renderer::Impl {
     }
     if (has_mirrors) PrepareBodyLight();
     const double yaw0 = pose.yaw + a_min;
-    // Walls into the bearing table.
+    // Walls into the bearing table (the bin edges' world-frame directions first).
+    for (int e = 0; e <= bins; ++e) {
+      edge_dx[e] = cyaw * edge_c[e] - syaw * edge_s[e];
+      edge_dy[e] = syaw * edge_c[e] + cyaw * edge_s[e];
+    }
     std::fill(edge_wall.begin(), edge_wall.end(), -1);
     std::fill(edge_t.begin(), edge_t.end(), kInf);
     for (std::size_t w = 0; w < world.walls.size(); ++w) {
@@ -546,20 +553,15 @@ struct Renderer::Impl {
       int e0 = static_cast<int>(std::floor(lo / d_a)) - 1, e1 = static_cast<int>(std::ceil(hi / d_a)) + 1;
       e0 = std::max(e0, 0);
       e1 = std::min(e1, bins);
+      const double* across = ws.along_x ? edge_dy.data() : edge_dx.data();  // the ray across the wall
+      const double* other = ws.along_x ? edge_dx.data() : edge_dy.data();
+      const double num = ws.coord - (ws.along_x ? py : px), base = ws.along_x ? px : py;
+      const double lo_e = ws.lo - 1e-9, hi_e = ws.hi + 1e-9;
       for (int e = e0; e <= e1; ++e) {
-        const double dx = cyaw * edge_c[e] - syaw * edge_s[e];
-        const double dy = syaw * edge_c[e] + cyaw * edge_s[e];
-        double t, along;
-        if (ws.along_x) {
-          if (std::abs(dy) < 1e-12) continue;
-          t = (ws.coord - py) / dy;
-          along = px + t * dx;
-        } else {
-          if (std::abs(dx) < 1e-12) continue;
-          t = (ws.coord - px) / dx;
-          along = py + t * dy;
-        }
-        if (t <= 0 || t >= edge_t[e] || along < ws.lo - 1e-9 || along > ws.hi + 1e-9) continue;
+        if (std::abs(across[e]) < 1e-12) continue;
+        const double t = num / across[e];
+        const double along = base + t * other[e];
+        if (t <= 0 || t >= edge_t[e] || along < lo_e || along > hi_e) continue;
         edge_t[e] = t;
         edge_wall[e] = static_cast<int>(w);
       }
@@ -1445,8 +1447,16 @@ struct Renderer::Impl {
     for (int q = 0; q < 4; ++q) kq[q] = q < np ? keys[q] : 0xFFFFFFFFu, pq[q] = q < np && plain[q];
     pq[4] = false;
     const double ceil_rel = frame_ceiling - cam_h;
+    // First every sample's hit (plane, distance) and its plane's slot (4: shade it alone, -1:
+    // trace it), then each plain plane's samples in a loop of its own, then the others in
+    // sample order (the same sums in the same order as one pass over the samples).
+    double sdx[kMaxSamples], sdy[kMaxSamples], sr[kMaxSamples];
+    int sid[kMaxSamples], sq[kMaxSamples];
+    Surf ss[kMaxSamples];
+    int count[5] = {0, 0, 0, 0, 0};
     for (int i = 0; i < nn; ++i, ++s) {
       const double dx = cyaw * s->ca - syaw * s->sa, dy = syaw * s->ca + cyaw * s->sa;
+      sdx[i] = dx, sdy[i] = dy;
       double r;
       int id;
       Surf surf;
@@ -1460,8 +1470,8 @@ struct Renderer::Impl {
           r = r <= t1 ? r : t1;
         }
         if (r == kInf) {  // a sliver wall inside the bin: trace this sample
-          double tx, ty;
-          sum += Shade(Trace(*s, tx, ty), px, py, cam_h, dx, dy, s->k, depth);
+          sq[i] = -1;
+          ++count[4];
           continue;
         }
         surf = Surf::kWall;
@@ -1489,30 +1499,53 @@ struct Renderer::Impl {
       q = kq[2] == key ? 2 : q;
       q = kq[1] == key ? 1 : q;
       q = kq[0] == key ? 0 : q;
-      if (pq[q]) {  // (Accumulate, written out)
-        const double x = px + dx * r, y = py + dy * r;
-        double tu, tv, e;
-        if (surf == Surf::kWall) {
-          const double z = cam_h + s->k * r;
-          tu = wf[id].along_x ? x : y;
-          tv = z;
-          e = WallIrradiance(id, tu, z);
-        } else {
-          const double irr = cells[GridIndex(x, y)].irr;
-          e = surf == Surf::kCeiling ? world.ambient + kCeilingBounce * irr : irr;
-          tu = x, tv = y;
-        }
-        PlainAccum& a = acc[q];
-        a.e_sum += e;
-        ++a.count;
-        a.u_lo = std::min(a.u_lo, tu), a.u_hi = std::max(a.u_hi, tu);
-        a.v_lo = std::min(a.v_lo, tv), a.v_hi = std::max(a.v_hi, tv);
-      } else {
-        Hit hit;
-        hit.surf = surf, hit.id = id, hit.r = r;
-        sum += Shade(hit, px, py, cam_h, dx, dy, s->k, depth);
-      }
+      q = pq[q] ? q : 4;
+      sr[i] = r, sid[i] = id, ss[i] = surf, sq[i] = q;
+      ++count[q];
     }
+    s = s0;
+    for (int q = 0; q < np; ++q) {  // (Accumulate, written out)
+      if (count[q] == 0) continue;
+      PlainAccum& a = acc[q];
+      const auto surf = static_cast<Surf>(keys[q] >> 24);
+      if (surf == Surf::kWall) {
+        const int id = static_cast<int>(keys[q] & 0xFFFFFFu);
+        const bool along_x = wf[id].along_x;
+        for (int i = 0; i < nn; ++i) {
+          if (sq[i] != q) continue;
+          const double r = sr[i];
+          const double x = px + sdx[i] * r, y = py + sdy[i] * r;
+          const double z = cam_h + s[i].k * r;
+          const double tu = along_x ? x : y;
+          a.e_sum += WallIrradiance(id, tu, z);
+          a.u_lo = std::min(a.u_lo, tu), a.u_hi = std::max(a.u_hi, tu);
+          a.v_lo = std::min(a.v_lo, z), a.v_hi = std::max(a.v_hi, z);
+        }
+      } else {
+        const bool ceiling = surf == Surf::kCeiling;
+        for (int i = 0; i < nn; ++i) {
+          if (sq[i] != q) continue;
+          const double r = sr[i];
+          const double x = px + sdx[i] * r, y = py + sdy[i] * r;
+          const double irr = cells[GridIndex(x, y)].irr;
+          a.e_sum += ceiling ? world.ambient + kCeilingBounce * irr : irr;
+          a.u_lo = std::min(a.u_lo, x), a.u_hi = std::max(a.u_hi, x);
+          a.v_lo = std::min(a.v_lo, y), a.v_hi = std::max(a.v_hi, y);
+        }
+      }
+      a.count = count[q];
+    }
+    if (count[4] > 0)
+      for (int i = 0; i < nn; ++i) {
+        if (sq[i] == 4) {
+          Hit hit;
+          hit.surf = ss[i], hit.id = sid[i], hit.r = sr[i];
+          sum += Shade(hit, px, py, cam_h, sdx[i], sdy[i], s[i].k, depth);
+        } else if (sq[i] < 0) {
+          double tx, ty;
+          sum += Shade(Trace(s[i], tx, ty), px, py, cam_h, sdx[i], sdy[i], s[i].k, depth);
+        }
+      }
     for (int q = 0; q < np; ++q)
       if (acc[q].count > 0) sum += acc[q].count * AccumRadiance(acc[q], static_cast<Surf>(keys[q] >> 24), corner_pt[idx[first[q]]].mat);
     return sum / nn;
@@ -1686,14 +1719,15 @@ struct Renderer::Impl {
       const double r_max = std::max(std::max(corner_r[i0], corner_r[i0 + 1]), std::max(corner_r[i2], corner_r[i2 + 1]));
       if (col_near[u] <= r_max) return PixelAdaptive(u, v, s);
     }
-    const SurfPt& p0 = corner_pt[i0];
-    if (p0.mat < 0) return p0.b;
+    // A plain region's key2 is its material << 16 (0xFFFF: a light panel, no material).
+    const int mat = static_cast<int>((c >> 16) & 0xFFFFu);
+    if (mat == 0xFFFF) return corner_pt[i0].b;
     const double u_lo = std::min(std::min(corner_tu[i0], corner_tu[i0 + 1]), std::min(corner_tu[i2], corner_tu[i2 + 1]));
     const double u_hi = std::max(std::max(corner_tu[i0], corner_tu[i0 + 1]), std::max(corner_tu[i2], corner_tu[i2 + 1]));
     const double v_lo = std::min(std::min(corner_tv[i0], corner_tv[i0 + 1]), std::min(corner_tv[i2], corner_tv[i2 + 1]));
     const double v_hi = std::max(std::max(corner_tv[i0], corner_tv[i0 + 1]), std::max(corner_tv[i2], corner_tv[i2 + 1]));
-    const double t = tex[p0.mat].BoxMean(u_lo, u_hi, v_lo, v_hi);
-    const MatFast& mf = mats[p0.mat];
+    const double t = tex[mat].BoxMean(u_lo, u_hi, v_lo, v_hi);
+    const MatFast& mf = mats[mat];
     switch (static_cast<Surf>(c >> 56)) {
       case Surf::kFloor: return t * mf.albedo * FloorIrradianceMean(u_lo, u_hi, v_lo, v_hi) + mf.emission;
       case Surf::kCeiling:
