@@ -598,7 +598,7 @@ std::unique_ptr<FeatureTracker> MakeFeatureTracker(const FeatureOptions& options
     case Detector::kOrb:
       return std::make_unique<DescriptorTracker>(
           Detector::kOrb,
-          cv::ORB::create(options.max_features, 1.2f, options.orb_levels, 15, 0, 2, cv::ORB::FAST_SCORE, 31,
+          cv::ORB::create(options.max_features, 1.2f, options.orb_levels, 15, 0, 2, cv::ORB::HARRIS_SCORE, 31,
                           options.orb_fast_threshold),
           cv::NORM_HAMMING, options);
     case Detector::kAkaze: {

@@ -71,7 +71,7 @@ TEST(FeatureTracker, DescriptorMatchesEqualOpenCvReferenceMatching) {
   const Case cases[] = {
       {Detector::kSift, cv::SIFT::create(o.max_features, o.sift_octave_layers, o.sift_contrast_threshold), cv::NORM_L2},
       {Detector::kOrb,
-       cv::ORB::create(o.max_features, 1.2f, o.orb_levels, 15, 0, 2, cv::ORB::FAST_SCORE, 31, o.orb_fast_threshold),
+       cv::ORB::create(o.max_features, 1.2f, o.orb_levels, 15, 0, 2, cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold),
        cv::NORM_HAMMING},
       {Detector::kAkaze, akaze, cv::NORM_HAMMING},  // 61-byte descriptors: not a multiple of 8
   };
@@ -111,7 +111,7 @@ TEST(FeatureTracker, OrbMatchesEqualReferenceForOddDescriptorCounts) {
     for (const Match& m : matches) got.emplace_back(m.previous.x, m.previous.y, m.current.x, m.current.y);
     std::sort(got.begin(), got.end());
     const auto orb =
-        cv::ORB::create(n, 1.2f, o.orb_levels, 15, 0, 2, cv::ORB::FAST_SCORE, 31, o.orb_fast_threshold);
+        cv::ORB::create(n, 1.2f, o.orb_levels, 15, 0, 2, cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
     const auto want = Reference(orb, cv::NORM_HAMMING, a, b, o);
     EXPECT_GE(want.size(), 3u) << n;
     EXPECT_EQ(got, want) << n;
