@@ -387,7 +387,7 @@ std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& cu
 std::optional<CellScales> CellExpansionScales(const Glance& earlier, const Glance& current, double cx, double cy,
                                               double half_width_px, double half_height_px, double max_scale,
                                               double start_scale, double cell_px, double min_contrast,
-                                              double min_ncc, double max_se) {
+                                              double min_ncc, double max_se, int max_cells) {
   if (!std::isfinite(cx) || !std::isfinite(cy) || !(max_scale > 1.0) || !(cell_px >= 1.0)) return std::nullopt;
   const int u0 = std::max(0, static_cast<int>(std::ceil(cx - half_width_px)));
   const int u1 = std::min(kW - 1, static_cast<int>(std::floor(cx + half_width_px)));
@@ -398,21 +398,38 @@ std::optional<CellScales> CellExpansionScales(const Glance& earlier, const Glanc
   // columns and rows shared out evenly.
   const int nu = std::max(1, static_cast<int>(std::lround((u1 - u0 + 1) / cell_px)));
   const int nv = std::max(1, static_cast<int>(std::lround((v1 - v0 + 1) / cell_px)));
-  CellScales out;
-  for (int j = 0; j < nv; ++j)
-    for (int i = 0; i < nu; ++i) {
-      if (out.count >= kMaxTtcCells) break;
-      const int cu0 = u0 + (u1 - u0 + 1) * i / nu, cu1 = u0 + (u1 - u0 + 1) * (i + 1) / nu - 1;
-      const int cv0 = v0 + (v1 - v0 + 1) * j / nv, cv1 = v0 + (v1 - v0 + 1) * (j + 1) / nv - 1;
-      const ScaleWindow w = MakeWindow(current, cu0, cu1, cv0, cv1, 1);
-      if (w.n < 6.0) continue;
-      const double var = std::max(0.0, w.syy / w.n - (w.sy / w.n) * (w.sy / w.n));
-      if (std::sqrt(var) < min_contrast) continue;
-      const GnResult r = RefineScale(earlier, current, w, cx, cy, start_scale, max_scale);
-      if (r.ncc < min_ncc || !(r.se <= max_se)) continue;
-      out.radius_px[out.count] = std::hypot(0.5 * (cu0 + cu1) - cx, 0.5 * (cv0 + cv1) - cy);
-      out.scale[out.count++] = r.scale;
+  // Visited nearest the expansion centre first (ties: row-major order), so that with max_cells
+  // only the cells that will count are refined.
+  struct Cell {
+    int u0, u1, v0, v1;
+    double radius;
+  };
+  std::array<Cell, kMaxTtcCells> grid{};
+  int n_grid = 0;
+  for (int j = 0; j < nv && n_grid < kMaxTtcCells; ++j)
+    for (int i = 0; i < nu && n_grid < kMaxTtcCells; ++i) {
+      Cell& c = grid[n_grid++];
+      c.u0 = u0 + (u1 - u0 + 1) * i / nu;
+      c.u1 = u0 + (u1 - u0 + 1) * (i + 1) / nu - 1;
+      c.v0 = v0 + (v1 - v0 + 1) * j / nv;
+      c.v1 = v0 + (v1 - v0 + 1) * (j + 1) / nv - 1;
+      c.radius = std::hypot(0.5 * (c.u0 + c.u1) - cx, 0.5 * (c.v0 + c.v1) - cy);
     }
+  for (int k = 1; k < n_grid; ++k)  // insertion sort: stable, in place, no allocation
+    for (int m = k; m > 0 && grid[m].radius < grid[m - 1].radius; --m) std::swap(grid[m], grid[m - 1]);
+  CellScales out;
+  for (int k = 0; k < n_grid; ++k) {
+    if (max_cells > 0 && out.count >= max_cells) break;
+    const Cell& c = grid[k];
+    const ScaleWindow w = MakeWindow(current, c.u0, c.u1, c.v0, c.v1, 1);
+    if (w.n < 6.0) continue;
+    const double var = std::max(0.0, w.syy / w.n - (w.sy / w.n) * (w.sy / w.n));
+    if (std::sqrt(var) < min_contrast) continue;
+    const GnResult r = RefineScale(earlier, current, w, cx, cy, start_scale, max_scale);
+    if (r.ncc < min_ncc || !(r.se <= max_se)) continue;
+    out.radius_px[out.count] = c.radius;
+    out.scale[out.count++] = r.scale;
+  }
   return out;
 }
 
@@ -457,29 +474,20 @@ void TimeToContactDistance::MeasureScale(const Glance& earlier, const Glance& cu
     // Cells whose scale is less certain than a fraction of the expected expansion (predicted,
     // else the window's) carry no evidence of their own.
     const double expected = std::max(predicted ? *predicted - 1.0 : m->scale - 1.0, 1e-3);
+    // Only the ttc_cell_nearest cells nearest the expansion centre (where the end of the
+    // corridor is); with ttc_cell_nearest_at_min_window only while the window is at its minimum
+    // size (far away, where it holds more than the end wall).
+    const bool at_min = half_w <= min_w + 1e-9 && half_h <= min_h + 1e-9;
+    const int max_cells =
+        options_.ttc_cell_nearest > 0 && (!options_.ttc_cell_nearest_at_min_window || at_min)
+            ? options_.ttc_cell_nearest
+            : 0;
     std::optional<CellScales> cells = CellExpansionScales(
         earlier, current, cx_, cy_, half_w, half_h, options_.ttc_max_scale, m->scale, options_.ttc_cell_px,
-        options_.ttc_min_contrast, options_.ttc_min_ncc, options_.ttc_cell_max_se_fraction * expected);
-    if (cells && cells->count >= options_.ttc_cell_min_count) {
-      int n = cells->count;
-      // ttc_cell_nearest_at_min_window: only while the window is at its minimum size (far away,
-      // where it holds more than the end wall).
-      const bool at_min = half_w <= min_w + 1e-9 && half_h <= min_h + 1e-9;
-      if (options_.ttc_cell_nearest > 0 && n > options_.ttc_cell_nearest &&
-          (!options_.ttc_cell_nearest_at_min_window || at_min)) {
-        // Only the cells nearest the expansion centre (where the end of the corridor is).
-        std::array<int, kMaxTtcCells> order{};
-        for (int k = 0; k < n; ++k) order[k] = k;
-        std::partial_sort(order.begin(), order.begin() + options_.ttc_cell_nearest, order.begin() + n,
-                          [&](int a, int b) { return cells->radius_px[a] < cells->radius_px[b]; });
-        std::array<double, kMaxTtcCells> nearest{};
-        for (int k = 0; k < options_.ttc_cell_nearest; ++k) nearest[k] = cells->scale[order[k]];
-        cells->scale = nearest;
-        n = options_.ttc_cell_nearest;
-      }
-      scale = LowerQuantile(std::span<double>(cells->scale.data(), static_cast<std::size_t>(n)),
+        options_.ttc_min_contrast, options_.ttc_min_ncc, options_.ttc_cell_max_se_fraction * expected, max_cells);
+    if (cells && cells->count >= options_.ttc_cell_min_count)
+      scale = LowerQuantile(std::span<double>(cells->scale.data(), static_cast<std::size_t>(cells->count)),
                             options_.ttc_cell_quantile);
-    }
   }
   out.raw = scale - 1.0;
   if (!(scale > 1.0)) return SetNoEstimate(out, Reason::kNotApproaching);

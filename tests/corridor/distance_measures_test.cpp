@@ -285,6 +285,7 @@ TEST(TimeToContact, NearestCellsReadTheEndOfTheCorridor) {
   o.ttc_cell_px = 6.0;
   o.ttc_cell_quantile = 0.5;
   o.ttc_cell_nearest = 2;
+  o.ttc_cell_min_count = 2;  // counted among the nearest cells
   DistanceMeasureResult near_cells;
   TimeToContactDistance(o, cx, cy).MeasureScale(a, b, 4, 0.4, std::nullopt, near_cells);
   ASSERT_TRUE(near_cells.model_input.has_value());

@@ -51,7 +51,9 @@ std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& cu
 // cells of about cell_px × cell_px pixels; in each cell whose grey-level σ reaches min_contrast
 // the magnification is refined by Gauss–Newton from start_scale, and kept when its NCC reaches
 // min_ncc and its standard error (of the linearised Gauss–Newton regression) is at most max_se.
-// None for a bad centre or window. At most kMaxTtcCells cells (no allocation).
+// Cells are visited nearest (cx, cy) first (ties in row-major order) and the result holds them
+// in that order; with max_cells > 0 the search stops after that many answered (the nearest
+// ones). None for a bad centre or window. At most kMaxTtcCells cells (no allocation).
 inline constexpr int kMaxTtcCells = 96;
 struct CellScales {
   std::array<double, kMaxTtcCells> scale{};
@@ -61,7 +63,7 @@ struct CellScales {
 std::optional<CellScales> CellExpansionScales(const Glance& earlier, const Glance& current, double cx, double cy,
                                               double half_width_px, double half_height_px, double max_scale,
                                               double start_scale, double cell_px, double min_contrast,
-                                              double min_ncc, double max_se = HUGE_VAL);
+                                              double min_ncc, double max_se = HUGE_VAL, int max_cells = 0);
 // The lower q-quantile of `values` (the element of rank floor(q · (n − 1)); reorders them); 0
 // when empty.
 double LowerQuantile(std::span<double> values, double q);

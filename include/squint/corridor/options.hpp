@@ -252,7 +252,8 @@ struct DistanceOptions {
   // history spans 0.2 m, σ − 1 ≈ 0.02 at 10 m, and single cells are noise). 0 = always.
   double ttc_cell_min_expansion = 0.0;
   // Only the ttc_cell_nearest cells whose centres are nearest the expansion centre count (0 =
-  // all cells).
+  // all cells); the search stops once that many answered, and ttc_cell_min_count is counted
+  // among them.
   int ttc_cell_nearest = 0;
   // ... only while the window is at its minimum size (far away; nearer, the window sized by the
   // end wall holds the end wall only and every cell counts).
