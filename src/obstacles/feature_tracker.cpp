@@ -411,15 +411,26 @@ class KltTracker : public FeatureTracker {
                              options_.klt_levels, term);
     // Back from the tracked points, starting at the corners and on the full-resolution level only: a
     // consistent track converges there at once; an inconsistent one cannot get back within the bound.
-    back_ = corners_;
-    cv::calcOpticalFlowPyrLK(pyr_cur_, pyr_prev_, tracked_, back_, status_back_, cv::noArray(), window, 0, term,
-                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    // Only tracks that pass the forward tests go back (LK treats every point on its own, so this
+    // changes no result).
     const cv::Rect2f inside(0.f, 0.f, static_cast<float>(current.cols - 1), static_cast<float>(current.rows - 1));
+    start_.clear();
+    end_.clear();
+    kept_.clear();
     for (std::size_t i = 0; i < corners_.size(); ++i) {
-      if (!status_[i] || !status_back_[i]) continue;
-      if (!inside.contains(tracked_[i])) continue;
-      if (!CloseEnough(corners_[i], back_[i], options_.klt_max_fb_error_px)) continue;
+      if (!status_[i] || !inside.contains(tracked_[i])) continue;
       if (!CloseEnough(corners_[i], tracked_[i], options_.max_displacement_px)) continue;
+      kept_.push_back(i);
+      start_.push_back(tracked_[i]);
+      end_.push_back(corners_[i]);
+    }
+    if (kept_.empty()) return;
+    cv::calcOpticalFlowPyrLK(pyr_cur_, pyr_prev_, start_, end_, status_back_, cv::noArray(), window, 0, term,
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    for (std::size_t k = 0; k < kept_.size(); ++k) {
+      const std::size_t i = kept_[k];
+      if (!status_back_[k]) continue;
+      if (!CloseEnough(corners_[i], end_[k], options_.klt_max_fb_error_px)) continue;
       matches->push_back({corners_[i], tracked_[i]});
     }
   }
@@ -427,7 +438,9 @@ class KltTracker : public FeatureTracker {
  private:
   FeatureOptions options_;
   ShiTomasiDetector corners_detector_;
-  std::vector<cv::Point2f> corners_, tracked_, back_;
+  std::vector<cv::Point2f> corners_, tracked_;
+  std::vector<cv::Point2f> start_, end_;  // the backward tracks: from the tracked points, ending near the corners
+  std::vector<std::size_t> kept_;         // their corner indices
   std::vector<cv::Mat> pyr_prev_, pyr_cur_;
   cv::Mat last_current_;  // copy of the last later frame (pyr_cur_ is its pyramid)
   std::vector<unsigned char> status_, status_back_;
