@@ -1140,24 +1140,34 @@ struct Renderer::Impl {
     const int nn = n * n;
     const auto surf = static_cast<Surf>(key1 >> 24);
     const int id = static_cast<int>(key1 & 0xFFFFFFu);
-    double sum = 0;
-    for (int i = 0; i < nn; ++i, ++s) {
-      const double dx = cyaw * s->ca - syaw * s->sa, dy = syaw * s->ca + cyaw * s->sa;
-      Hit hit;
-      hit.surf = surf;
-      if (surf == Surf::kFloor && s->k < 0) {
-        hit.r = s->rk;
-      } else if (surf == Surf::kCeiling && s->k > 0) {
-        hit.r = (frame_ceiling - cam_h) * s->rk;
+    const int depth = has_mirrors ? 0 : 1;
+    // First every sample's distance to the plane (the loop's iterations overlap), then the
+    // shading in sample order.
+    double sdx[kMaxSamples], sdy[kMaxSamples], sr[kMaxSamples];
+    const double ceil_rel = frame_ceiling - cam_h;
+    for (int i = 0; i < nn; ++i) {
+      const Sample& si = s[i];
+      const double dx = cyaw * si.ca - syaw * si.sa, dy = syaw * si.ca + cyaw * si.sa;
+      sdx[i] = dx, sdy[i] = dy;
+      double r = kInf;
+      if (surf == Surf::kFloor && si.k < 0) {
+        r = si.rk;
+      } else if (surf == Surf::kCeiling && si.k > 0) {
+        r = ceil_rel * si.rk;
       } else if (surf == Surf::kWall) {
-        hit.id = id;
-        hit.r = WallDistance(id, dx, dy);
+        r = WallDistance(id, dx, dy);
       }
+      sr[i] = r;
+    }
+    double sum = 0;
+    for (int i = 0; i < nn; ++i) {
+      Hit hit;
+      hit.surf = surf, hit.id = surf == Surf::kWall ? id : -1, hit.r = sr[i];
       if (hit.r == kInf) {  // off the plane after all: trace it
         double tx, ty;
-        hit = Trace(*s, tx, ty);
+        hit = Trace(s[i], tx, ty);
       }
-      sum += Shade(hit, px, py, cam_h, dx, dy, s->k, has_mirrors ? 0 : 1);
+      sum += Shade(hit, px, py, cam_h, sdx[i], sdy[i], s[i].k, depth);
     }
     return sum / nn;
   }
