@@ -768,7 +768,7 @@ struct Renderer::Impl {
     Hit hit;
     const int w0 = edge_wall[s.bin], w1 = edge_wall[s.bin + 1];
     const double t0 = WallDistance(w0, dx, dy);
-    const double t1 = WallDistance(w1, dx, dy);  // (w1 == w0: t1 == t0, and w0 is kept)
+    const double t1 = w1 != w0 ? WallDistance(w1, dx, dy) : kInf;
     if (t0 <= t1) {
       hit.r = t0, hit.id = w0;
     } else {
