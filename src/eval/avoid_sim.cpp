@@ -26,7 +26,17 @@ std::string AvoidSimOptions::Validate() const {
   if (!(stop_turn_deg > 0 && stop_turn_deg <= 180)) return "stop_turn_deg must be in (0, 180]";
   if (!(start_jitter_m >= 0) || !(start_yaw_jitter_deg >= 0)) return "start jitters must be >= 0";
   if (!(noise_sigma >= 0)) return "noise_sigma must be >= 0";
+  if (!(blind_path_m >= 0)) return "blind_path_m must be >= 0";
   return {};
+}
+
+BlindMove ChooseBlindMove(obstacles::PairStatus status, bool forward_all_pair, bool path_clear, bool* stalled) {
+  const bool no_motion = status == obstacles::PairStatus::kNoMotion;
+  const bool stall = no_motion && forward_all_pair;
+  if (stalled) *stalled = stall;
+  if (stall) return BlindMove::kTurn;
+  if ((no_motion || status == obstacles::PairStatus::kPureRotation) && path_clear) return BlindMove::kDriveOn;
+  return BlindMove::kTurn;
 }
 
 AvoidSimRun RunAvoidSim(const sim::World& world, const config::AvoidFileOptions& options,
@@ -64,6 +74,7 @@ AvoidSimRun RunAvoidSim(const sim::World& world, const config::AvoidFileOptions&
   Pose2 previous_odom = robot.OdomPose();
   double v = so.speed_mps, omega = 0.0;
   double turn_left_rad = 0.0;  // remaining in-place turn after a stop
+  bool forward_all_pair = true;  // every step since the last frame was commanded forward
   auto clearance = [&] {
     const Eigen::Vector2d p = robot.TruePose().Translation();
     return std::min(world.DistanceToWalls(p), world.DistanceToObstacles(p)) - world.robot.radius_m;
@@ -80,6 +91,7 @@ AvoidSimRun RunAvoidSim(const sim::World& world, const config::AvoidFileOptions&
         v = so.speed_mps;
       }
     }
+    if (!(v > 0.0)) forward_all_pair = false;
     const sim::StepResult step = robot.Step(v, omega);
     if (step.collided) {
       if (run.collisions == 0) {
@@ -96,7 +108,7 @@ AvoidSimRun RunAvoidSim(const sim::World& world, const config::AvoidFileOptions&
       ipt.Process(previous, current, previous_odom, odom, &pair);
       if (pair.Ok()) {
         ++run.decisions;
-        const obstacles::AvoidResult& r = avoider.Process(current, pair.features);
+        const obstacles::AvoidResult& r = avoider.Process(current, pair.features, odom);
         if (!so.overlay_dir.empty())
           WritePng(so.overlay_dir / fmt::format("{:03d}-{:06d}.png", seed, frame_id),
                    obstacles::DrawAvoidOverlay(current, pair.features, r));
@@ -109,19 +121,30 @@ AvoidSimRun RunAvoidSim(const sim::World& world, const config::AvoidFileOptions&
         }
       } else {
         // No classification (e.g. too few features facing a plain wall): do not drive on blind;
-        // turn as on a stop. Pairs without motion cannot be classified either way.
+        // turn as on a stop. Pairs without motion cannot be classified either way: after an
+        // in-place turn the robot drives on straight, but only when its footprint is clear of
+        // the contacts it remembers. A pair without motion although every step was commanded
+        // forward is a stall (the wheels made no progress: something holds the robot): a stop.
         ++run.skipped_pairs;
         ++run.skipped_by_status[obstacles::PairStatusName(pair.status)];
-        if (pair.status == obstacles::PairStatus::kNoMotion || pair.status == obstacles::PairStatus::kPureRotation) {
+        const bool after_turn =
+            pair.status == obstacles::PairStatus::kNoMotion || pair.status == obstacles::PairStatus::kPureRotation;
+        bool stalled = false;
+        const BlindMove move = ChooseBlindMove(pair.status, forward_all_pair,
+                                               after_turn && avoider.StraightPathClear(odom, so.blind_path_m), &stalled);
+        if (stalled) ++run.stalls;
+        if (move == BlindMove::kDriveOn) {
           v = so.speed_mps;
           omega = 0.0;
         } else {
+          if (after_turn && !stalled) ++run.blind_blocked;
           turn_left_rad = DegToRad(so.stop_turn_deg);
         }
       }
     }
     previous = current;
     previous_odom = odom;
+    forward_all_pair = true;
   }
   run.time_s = robot.Time();
   run.distance_m = robot.DistanceTravelled();

@@ -73,4 +73,13 @@ SteeringDecision ChooseSteering(const std::vector<Gap>& gaps) {
   return d;
 }
 
+bool StraightPathFree(std::span<const Eigen::Vector2d> points_m, double length_m, double half_width_m) {
+  for (const Eigen::Vector2d& p : points_m) {
+    if (p.x() < 0.0) continue;  // behind: moving forward only takes the robot away from it
+    const double along = std::min(p.x(), length_m);
+    if (std::hypot(p.x() - along, p.y()) < half_width_m) return false;
+  }
+  return true;
+}
+
 }  // namespace squint::obstacles

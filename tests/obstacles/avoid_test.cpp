@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "avoid_scene.hpp"
 #include "squint/core/angles.hpp"
 #include "squint/core/error.hpp"
@@ -108,6 +110,84 @@ TEST(AvoidTest, InvalidOptionsOrCameraThrow) {
   CameraModel no_intrinsics = ObstacleCamera();
   no_intrinsics.fx = 0;
   EXPECT_THROW(Avoider(no_intrinsics, {}), Error);
+}
+
+// The contact memory: the box of BoxAheadIsAvoided seen from the odometry origin, then an empty
+// view after the robot turned 60° right in place, so that the box lies left of the 65° view.
+TEST(AvoidTest, ContactMemoryKeepsEarlierContactsInTheOdometryFrame) {
+  const CameraModel cam = ObstacleCamera();
+  const Box box{1.3, 1.6, 0.1, 0.5, 0.3};
+  AvoidOptions o;
+  o.memory.decisions = 2;
+  Avoider avoider(cam, o);
+  const Pose2 origin{0.0, 0.0, 0.0};
+  const AvoidResult& first = avoider.Process(RenderBoxes(cam, {box}), BoxFeatures(cam, box), origin);
+  EXPECT_TRUE(first.remembered.empty()) << "nothing seen before";
+  std::vector<Eigen::Vector2d> seen;
+  for (const ContactPoint& c : first.contacts)
+    if (c.range_m <= o.polar.roi_radius_m) seen.push_back(c.floor_m);
+  ASSERT_GT(seen.size(), 20u);
+
+  const Pose2 turned{0.0, 0.0, DegToRad(-60.0)};
+  const cv::Mat empty = RenderBoxes(cam, {});
+  const AvoidResult& r = avoider.Process(empty, {}, turned);
+  EXPECT_TRUE(r.contacts.empty());
+  ASSERT_EQ(r.remembered.size(), seen.size());
+  for (std::size_t i = 0; i < seen.size(); ++i) {
+    // In the turned robot frame a point p of the old frame is R(+60°) p.
+    const double c = std::cos(DegToRad(60.0)), s = std::sin(DegToRad(60.0));
+    const Eigen::Vector2d expected(c * seen[i].x() - s * seen[i].y(), s * seen[i].x() + c * seen[i].y());
+    EXPECT_NEAR((r.remembered[i].floor_m - expected).norm(), 0.0, 1e-9);
+    EXPECT_NEAR(r.remembered[i].range_m, seen[i].norm(), 1e-9);
+    EXPECT_NEAR(r.remembered[i].bearing_deg, RadToDeg(std::atan2(seen[i].y(), seen[i].x())) + 60.0, 1e-9);
+    EXPECT_TRUE(std::isnan(r.remembered[i].pixel.x()));
+  }
+  // The box's front (bearings 4.4° to 21.0° before) is now at 64.4° to 81.0°, out of view, and
+  // its sectors are occupied from memory.
+  for (const PolarSector& s : r.map->sectors) {
+    if (s.end_deg > 64.4 + 0.5 && s.start_deg < 81.0 - 0.5) EXPECT_EQ(s.state, SectorState::kOccupied) << s.centre_deg;
+    if (s.end_deg < 64.4 - 1.0 || s.start_deg > 81.0 + 1.0) EXPECT_NE(s.state, SectorState::kOccupied) << s.centre_deg;
+  }
+  // The same view without the pose: no memory, nothing occupied.
+  const AvoidResult& plain = avoider.Process(empty, {});
+  EXPECT_TRUE(plain.remembered.empty());
+  for (const PolarSector& s : plain.map->sectors) EXPECT_NE(s.state, SectorState::kOccupied);
+  // memory.decisions = 2: the box's contacts serve the two decisions after the one that saw them.
+  EXPECT_EQ(avoider.Process(empty, {}, turned).remembered.size(), seen.size());
+  EXPECT_TRUE(avoider.Process(empty, {}, turned).remembered.empty());
+}
+
+TEST(AvoidTest, StraightPathClearChecksTheFootprintAgainstRememberedContacts) {
+  const CameraModel cam = ObstacleCamera();
+  // The box's right front corner at (1.3, 0.1): the footprint's half width is 0.25 + 0.05 m.
+  const Box box{1.3, 1.6, 0.1, 0.5, 0.3};
+  Avoider avoider(cam);
+  const Pose2 origin{0.0, 0.0, 0.0};
+  avoider.Process(RenderBoxes(cam, {box}), BoxFeatures(cam, box), origin);
+  EXPECT_TRUE(avoider.StraightPathClear(origin, 0.9)) << "stops 0.4 m short of the box";
+  EXPECT_FALSE(avoider.StraightPathClear(origin, 1.5)) << "would drive into it";
+  // Moved 0.5 m right (odometry y = -0.5) the box's nearest contact is 0.6 m left of the path.
+  EXPECT_TRUE(avoider.StraightPathClear(Pose2{0.0, -0.5, 0.0}, 3.0));
+  // Facing away from it, the box is behind.
+  EXPECT_TRUE(avoider.StraightPathClear(Pose2{0.0, 0.0, DegToRad(180.0)}, 3.0));
+  std::vector<Eigen::Vector2d> points;
+  avoider.RememberedPoints(origin, &points);
+  EXPECT_GT(points.size(), 20u);
+  avoider.ClearMemory();
+  EXPECT_TRUE(avoider.StraightPathClear(origin, 1.5));
+  // Without the pose nothing is remembered.
+  Avoider no_pose(cam);
+  no_pose.Process(RenderBoxes(cam, {box}), BoxFeatures(cam, box));
+  EXPECT_TRUE(no_pose.StraightPathClear(origin, 1.5));
+}
+
+TEST(AvoidTest, InvalidMemoryOptionsThrow) {
+  AvoidOptions o;
+  o.memory.decisions = -1;
+  EXPECT_THROW(Avoider(ObstacleCamera(), o), Error);
+  o.memory.decisions = 4;
+  o.memory.radius_m = 0.0;
+  EXPECT_THROW(Avoider(ObstacleCamera(), o), Error);
 }
 
 }  // namespace

@@ -138,5 +138,22 @@ TEST(GapSteeringTest, EqualGapsGoToTheOneNearerStraightAheadThenTheRightmost) {
   EXPECT_DOUBLE_EQ(*ChooseSteering(Gaps(Map({16, 19}, 1.5, unseen2))).steer_deg, 27.5);
 }
 
+TEST(GapSteeringTest, StraightPathFreeIsTheFootprintSweptAlongTheHeading) {
+  // A disc of radius 0.3 m moving 2 m along +x sweeps the points within 0.3 m of the segment
+  // from (0, 0) to (2, 0).
+  const auto clear = [](std::vector<Eigen::Vector2d> p) { return StraightPathFree(p, 2.0, 0.3); };
+  EXPECT_TRUE(clear({}));
+  EXPECT_FALSE(clear({{1.0, 0.29}})) << "beside the path, 0.29 m from its axis";
+  EXPECT_TRUE(clear({{1.0, 0.31}, {1.0, -0.31}}));
+  EXPECT_FALSE(clear({{2.2, 0.0}})) << "0.2 m beyond the end: within the disc there";
+  EXPECT_TRUE(clear({{2.31, 0.0}}));
+  // Beyond the end the swept region is round: (2.2, 0.2) is 0.283 m from (2, 0), (2.25, 0.2) 0.32 m.
+  EXPECT_FALSE(clear({{2.2, 0.2}}));
+  EXPECT_TRUE(clear({{2.25, 0.2}}));
+  EXPECT_TRUE(clear({{-0.1, 0.0}, {-0.5, 0.1}})) << "behind the robot";
+  EXPECT_FALSE(clear({{0.0, 0.1}})) << "beside the centre";
+  EXPECT_FALSE(StraightPathFree(std::vector<Eigen::Vector2d>{{0.1, 0.2}}, 0.0, 0.3)) << "length 0: the disc itself";
+}
+
 }  // namespace
 }  // namespace squint::obstacles

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -50,5 +51,11 @@ void FindGaps(const PolarMap& map, const GapOptions& options, std::vector<Gap>* 
 // The centre of the widest passable gap (by angle; ties go to the one nearer straight ahead,
 // then to the rightmost); stop when no gap is passable.
 SteeringDecision ChooseSteering(const std::vector<Gap>& gaps);
+
+// Whether a disc of radius `half_width_m` centred on the robot (origin, heading +x) can move
+// `length_m` straight ahead without any of `points_m` (robot frame) coming within the disc: no
+// point lies within `half_width_m` of the segment from (0, 0) to (length_m, 0). Points behind
+// the robot (x < 0) never block it.
+bool StraightPathFree(std::span<const Eigen::Vector2d> points_m, double length_m, double half_width_m);
 
 }  // namespace squint::obstacles
