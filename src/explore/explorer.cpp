@@ -176,6 +176,10 @@ void Explorer::UpdateSonar(const Percept& p) {
     }
   }
   memory_.Update(*scan, p.odom_T_robot, p.stamp_s, p.sonar_near_blind_m);
+  // A blind view with a corridor in the glance: nothing stands within the blind range ahead, so
+  // what the memory holds there (a floor-material edge taken for a wall from farther back, e.g.
+  // at the mouth of default's carpeted middle corridor) goes.
+  if (scan == &sonar_copy_ && opt_.blind_view_clears) memory_.ClearUnknownRays(sonar_copy_, p.odom_T_robot, p.sonar_near_blind_m);
   memory_.Gather(p.odom_T_robot, p.stamp_s);
   sonar_seen_ = true;
   last_scan_yaw_ = p.odom_T_robot.yaw;

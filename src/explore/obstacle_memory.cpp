@@ -110,6 +110,13 @@ void ObstacleMemory::ClearRay(const Eigen::Vector2d& origin, double yaw, double 
   }
 }
 
+void ObstacleMemory::ClearUnknownRays(const std::vector<SonarColumn>& scan, const Pose2& odom_T_robot, double to_m) {
+  const Eigen::Vector2d o = odom_T_robot.Translation();
+  for (const SonarColumn& c : scan)
+    if (c.kind == SonarReturn::kUnknown)
+      ClearRay(o, odom_T_robot.yaw + c.bearing_rad, 0.0, to_m, std::numeric_limits<double>::infinity(), 0.0);
+}
+
 bool ObstacleMemory::SeenFree(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double now_s) const {
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
   const double step = 0.5 * options_.cell_m;

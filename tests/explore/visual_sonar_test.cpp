@@ -222,6 +222,44 @@ TEST(VisualSonar, IsolatedTextureStepIsVotedOutByTheNeighbours) {
   EXPECT_LE(out[20].range_m, std::max(sonar.RangeAt(17, 30), sonar.RangeAt(23, 30)) + 1e-9);
 }
 
+// A wall corner in the right half of the view, floor to the horizon in the left half: the median
+// across columns is taken one rank nearer than the middle (median_near_bias), so the blocked side
+// of the transition reaches one column farther toward the free side (with the plain median a
+// column there read the far floor beside the corner, and the memory cleared the corner along that
+// ray). Near boundaries keep the plain median: floor texture 3 raw columns wide (no column
+// averaging here) is still voted out, as with the plain median.
+TEST(VisualSonar, NearBiasedMedianKeepsTheNearSideOfATransition) {
+  const CameraModel cam = SonarCamera();
+  const int horizon = static_cast<int>(std::floor(cam.HorizonRow()));
+  Image im = FloorWall(std::vector<int>(64, horizon - 1));
+  for (int u = 32; u < 64; ++u)
+    for (int v = 0; v < 48; ++v) im.At(u, v) = 120;  // the wall fills these columns down to the bottom
+  VisualSonarOptions plain;
+  plain.median_near_bias = 0;
+  VisualSonarOptions biased;
+  biased.median_near_bias = 1;
+  VisualSonar a(cam, plain), b(cam, biased);
+  auto first_blocked = [](const std::vector<SonarColumn>& cols) {
+    for (std::size_t u = 0; u < cols.size(); ++u)
+      if (cols[u].kind == SonarReturn::kBlockedNear) return static_cast<int>(u);
+    return -1;
+  };
+  const std::vector<SonarColumn> pa = a.Process(im.View());
+  const std::vector<SonarColumn> pb = b.Process(im.View());
+  EXPECT_EQ(first_blocked(pb), first_blocked(pa) - 1);
+  for (int u = 0; u < first_blocked(pb); ++u) EXPECT_EQ(pb[static_cast<std::size_t>(u)].kind, SonarReturn::kFar) << "column " << u;
+  for (int u = first_blocked(pb); u < 64; ++u) EXPECT_EQ(pb[static_cast<std::size_t>(u)].kind, SonarReturn::kBlockedNear) << "column " << u;
+  // Dark floor spots near the bottom, 2 and 3 columns wide (no column averaging).
+  biased.column_half_width = 0;
+  VisualSonar c(cam, biased);
+  Image tex = FloorWall(std::vector<int>(64, 30));
+  for (int v = 38; v <= 41; ++v) tex.At(15, v) = tex.At(16, v) = 90;
+  for (int v = 38; v <= 41; ++v) tex.At(40, v) = tex.At(41, v) = tex.At(42, v) = 90;
+  const auto& out = c.Process(tex.View());
+  EXPECT_GE(out[15].range_m, std::min(c.RangeAt(12, 30), c.RangeAt(19, 30)) - 1e-9);  // voted out
+  EXPECT_GE(out[41].range_m, std::min(c.RangeAt(38, 30), c.RangeAt(45, 30)) - 1e-9);  // voted out
+}
+
 // A wall filling the view with a bright line at the horizon in a few columns (a mortar course):
 // those columns read far, but 5 of them are too few for a floor reference, so the rest stays
 // blocked near (not "unknown", which would let the robot drive into the wall).
@@ -419,6 +457,37 @@ TEST(ObstacleMemory, WallFillingTheViewOnConsecutiveScansStopsDespiteFloorSeen) 
   for (int k = 0; k < need + 2; ++k) old.Update(blocked, Pose2{}, 1.0 + 0.1 * k, 1.2);
   old.Gather(Pose2{}, 2.0);
   EXPECT_NEAR(old.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, /*use_blocked=*/false), 1.3 - 0.35, 0.05);
+}
+
+// The explorer's blind views (a corridor in the glance, no floor contrast in the sonar) clear what
+// the memory holds along their rays out to the blind range, and only there; no floor is marked
+// seen, so a later blockage still counts in full.
+TEST(ObstacleMemory, UnknownRaysClearOnlyWithinTheirRangeAndMarkNoFloor) {
+  const CameraModel cam = SonarCamera();
+  ObstacleMemory two;
+  two.Update(WallScan(cam, 2.0), Pose2{-1.0, 0.0, 0.0}, 0.0, 1.2);  // a "wall" at x = 1.0
+  two.Gather(Pose2{}, 0.1);
+  ASSERT_NEAR(two.FreeTravel(Pose2{}, 0.0, 0.35, 5.0), 1.0 - 0.35, 0.05);
+  std::vector<SonarColumn> unknown = WallScan(cam, 2.0);
+  for (SonarColumn& c : unknown) c.kind = SonarReturn::kUnknown;
+  two.ClearUnknownRays(unknown, Pose2{}, 1.2);
+  two.Gather(Pose2{}, 0.1);
+  EXPECT_EQ(two.FreeTravel(Pose2{}, 0.0, 0.35, 5.0), 5.0);
+  // Beyond the range: kept.
+  ObstacleMemory far;
+  far.Update(WallScan(cam, 3.0), Pose2{-1.0, 0.0, 0.0}, 0.0, 1.2);  // x = 2.0
+  far.ClearUnknownRays(unknown, Pose2{}, 1.2);
+  far.Gather(Pose2{}, 0.1);
+  EXPECT_NEAR(far.FreeTravel(Pose2{}, 0.0, 0.35, 5.0), 2.0 - 0.35, 0.05);
+  // No floor marked seen: a blocked view right after still stops, even with use_blocked = false.
+  std::vector<SonarColumn> blocked = WallScan(cam, 2.0);
+  for (SonarColumn& c : blocked) {
+    c.kind = SonarReturn::kBlockedNear;
+    c.range_m = 0.0;
+  }
+  two.Update(blocked, Pose2{}, 0.2, 1.2);
+  two.Gather(Pose2{}, 0.2);
+  EXPECT_EQ(two.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, /*use_blocked=*/false), 0.0);
 }
 
 // A corner seen blocked near on the right, then out of view after the robot turned left: the

@@ -112,7 +112,8 @@ struct ExplorerOptions {
   // (no information: the memory and the stall guard remain); before any reference (start-up), at
   // or above start_corridor_entropy_nats. 0 turns this off.
   double blind_view_fraction = 0.75;
-  double blind_view_entropy_ratio = 0.9;
+  double blind_view_entropy_ratio = 0.85;
+  bool blind_view_clears = true;  // such a view also clears the memory along its rays out to the blind range
   // Side branches met while following (a T met from its bar), from the sonar's memory: a side
   // wall seen abeam (within side_window_m along the axis, side_wall_max_lateral_m across) over
   // branch_wall_before_m of travel, then no wall abeam, is an opening; its far edge is the

@@ -75,6 +75,10 @@ class ObstacleMemory {
                      double* left_m, double* right_m) const;
   const std::vector<Eigen::Vector2d>& Gathered() const { return gathered_; }
   void Clear();
+  // Removes remembered boundaries (and soft points) along the rays of the scan's unknown columns
+  // out to to_m, without marking any floor as seen (the explorer's blind views: a corridor in the
+  // glance, so nothing stands within the sonar's blind range ahead).
+  void ClearUnknownRays(const std::vector<SonarColumn>& scan, const Pose2& odom_T_robot, double to_m);
 
  private:
   struct Cell {

@@ -21,6 +21,11 @@ struct VisualSonarOptions {
   int min_floor_rows = 2;         // a step with fewer floor rows below it reads as blocked near
   int column_half_width = 1;     // columns averaged on each side (texture suppression)
   int median_half_width = 3;     // ranges are the median over 2m + 1 neighbouring columns
+  // A column is blocked near when the order statistic this many ranks nearer than the median is
+  // blocked near (0 turns it off): at a wall corner beside far floor the blocked side reaches this
+  // many columns farther, so no column there reads the floor beyond the corner (the memory would
+  // clear the corner along that ray). Boundaries and far keep the plain median (texture).
+  int median_near_bias = 1;
   double max_range_m = 6.0;      // boundaries farther than this (or at the horizon) read as far
   // Columns without a step are told apart (blocked near / unknown) by the floor of the columns
   // with a step; fewer such columns than this: no reference (blocked near).
