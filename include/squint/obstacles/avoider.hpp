@@ -26,7 +26,7 @@ namespace squint::obstacles {
 // occupy their sectors (and narrow the gaps) for `decisions` frames. Used only when Process()
 // gets the odometry pose of the frame.
 struct ContactMemoryOptions {
-  int decisions = 8;       // contacts of this many earlier decisions are kept (0: no memory)
+  int decisions = 4;       // contacts of this many earlier decisions are kept (0: no memory)
   double radius_m = 1.5;   // remembered contacts farther than this from the robot are left out
 
   std::string Validate() const;
