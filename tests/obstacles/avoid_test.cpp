@@ -145,8 +145,11 @@ TEST(AvoidTest, ContactMemoryKeepsEarlierContactsInTheOdometryFrame) {
   // The box's front (bearings 4.4° to 21.0° before) is now at 64.4° to 81.0°, out of view, and
   // its sectors are occupied from memory.
   for (const PolarSector& s : r.map->sectors) {
-    if (s.end_deg > 64.4 + 0.5 && s.start_deg < 81.0 - 0.5) EXPECT_EQ(s.state, SectorState::kOccupied) << s.centre_deg;
-    if (s.end_deg < 64.4 - 1.0 || s.start_deg > 81.0 + 1.0) EXPECT_NE(s.state, SectorState::kOccupied) << s.centre_deg;
+    if (s.end_deg > 64.4 + 0.5 && s.start_deg < 81.0 - 0.5) {
+      EXPECT_EQ(s.state, SectorState::kOccupied) << s.centre_deg;
+    } else if (s.end_deg < 64.4 - 1.0 || s.start_deg > 81.0 + 1.0) {
+      EXPECT_NE(s.state, SectorState::kOccupied) << s.centre_deg;
+    }
   }
   // The same view without the pose: no memory, nothing occupied.
   const AvoidResult& plain = avoider.Process(empty, {});
