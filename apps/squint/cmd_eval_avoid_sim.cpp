@@ -33,18 +33,19 @@ void Run(const EvalAvoidSimOptions& cli) {
   nlohmann::json runs = nlohmann::json::array();
   int collided_runs = 0;
   ProgressBar bar("avoid-sim", static_cast<std::size_t>(cli.runs));
-  fmt::print("{:>5} {:>8} {:>7} {:>10} {:>9} {:>6} {:>8} {:>13}  {}\n", "seed", "time_s", "dist_m", "decisions",
-             "skipped", "stops", "collide", "min_clear_m", "first hit");
+  fmt::print("{:>5} {:>8} {:>7} {:>10} {:>9} {:>6} {:>7} {:>8} {:>13}  {}\n", "seed", "time_s", "dist_m", "decisions",
+             "skipped", "stops", "stalls", "collide", "min_clear_m", "first hit");
   for (int i = 0; i < cli.runs; ++i) {
     const std::uint64_t seed = cli.seed + static_cast<std::uint64_t>(i);
     const eval::AvoidSimRun r = eval::RunAvoidSim(world, options, cli.sim, seed);
     collided_runs += r.collisions > 0;
-    fmt::print("{:>5} {:>8.1f} {:>7.2f} {:>10} {:>9} {:>6} {:>8} {:>13.3f}  {}\n", seed, r.time_s, r.distance_m,
-               r.decisions, r.skipped_pairs, r.stops, r.collisions, r.min_clearance_m,
+    fmt::print("{:>5} {:>8.1f} {:>7.2f} {:>10} {:>9} {:>6} {:>7} {:>8} {:>13.3f}  {}\n", seed, r.time_s, r.distance_m,
+               r.decisions, r.skipped_pairs, r.stops, r.stalls, r.collisions, r.min_clearance_m,
                r.collisions ? fmt::format("{} at {:.1f} s", r.first_hit, r.first_collision_s) : "");
     for (const auto& [status, n] : r.skipped_by_status) fmt::print("      skipped: {} x {}\n", n, status);
     runs.push_back({{"seed", seed}, {"time_s", r.time_s}, {"distance_m", r.distance_m}, {"decisions", r.decisions},
-                    {"skipped_pairs", r.skipped_pairs}, {"skipped_by_status", r.skipped_by_status}, {"stops", r.stops}, {"collision_steps", r.collisions},
+                    {"skipped_pairs", r.skipped_pairs}, {"skipped_by_status", r.skipped_by_status}, {"stops", r.stops}, {"stalls", r.stalls},
+                    {"blind_blocked", r.blind_blocked}, {"collision_steps", r.collisions},
                     {"first_collision_s", r.first_collision_s}, {"first_hit", r.first_hit},
                     {"min_clearance_m", r.min_clearance_m}});
     bar.Update(static_cast<std::size_t>(i + 1));

@@ -81,7 +81,7 @@ AvoidOptions ParseAvoid(const YAML::Node& root, const std::string& source, const
   if (!root || root.IsNull() || !root["avoid"] || root["avoid"].IsNull()) return o;
   const Reader r(source);
   const YAML::Node a = root["avoid"];
-  r.RequireMap(a, "avoid", {"edges", "outline", "polar", "gap"});
+  r.RequireMap(a, "avoid", {"edges", "outline", "polar", "gap", "memory"});
   if (const YAML::Node n = a["edges"]) {
     r.RequireMap(n, "avoid.edges", {"sigma_px", "low_threshold", "high_threshold", "base_edges"});
     r.Get(n, "avoid.edges", "base_edges", &o.edges.base_edges);
@@ -116,6 +116,11 @@ AvoidOptions ParseAvoid(const YAML::Node& root, const std::string& source, const
     r.RequireMap(n, "avoid.gap", {"robot_radius_m", "margin_m"});
     r.Get(n, "avoid.gap", "robot_radius_m", &o.gap.robot_radius_m);
     r.Get(n, "avoid.gap", "margin_m", &o.gap.margin_m);
+  }
+  if (const YAML::Node n = a["memory"]) {
+    r.RequireMap(n, "avoid.memory", {"decisions", "radius_m"});
+    r.Get(n, "avoid.memory", "decisions", &o.memory.decisions);
+    r.Get(n, "avoid.memory", "radius_m", &o.memory.radius_m);
   }
   const std::string problem = o.Validate();
   if (!problem.empty()) throw Error(source + ": avoid." + problem);
@@ -153,6 +158,8 @@ std::string AvoidOptionsToYaml(const AvoidOptions& o) {
     << YAML::EndMap;
   e << YAML::Key << "gap" << YAML::Value << YAML::BeginMap << YAML::Key << "robot_radius_m" << YAML::Value
     << o.gap.robot_radius_m << YAML::Key << "margin_m" << YAML::Value << o.gap.margin_m << YAML::EndMap;
+  e << YAML::Key << "memory" << YAML::Value << YAML::BeginMap << YAML::Key << "decisions" << YAML::Value
+    << o.memory.decisions << YAML::Key << "radius_m" << YAML::Value << o.memory.radius_m << YAML::EndMap;
   e << YAML::EndMap << YAML::EndMap;
   return std::string(e.c_str()) + "\n";
 }

@@ -39,6 +39,8 @@ TEST(AvoidYamlTest, RoundTripKeepsEveryMember) {
   o.polar.min_ground_range_m = 0.9;
   o.gap.robot_radius_m = 0.31;
   o.gap.margin_m = 0.07;
+  o.memory.decisions = 6;
+  o.memory.radius_m = 1.25;
   const obstacles::AvoidOptions back = AvoidOptionsFromYaml(AvoidOptionsToYaml(o), "round-trip");
   EXPECT_EQ(back.edges.sigma_px, o.edges.sigma_px);
   EXPECT_EQ(back.edges.low_threshold, o.edges.low_threshold);
@@ -55,6 +57,8 @@ TEST(AvoidYamlTest, RoundTripKeepsEveryMember) {
   EXPECT_EQ(back.polar.min_ground_range_m, o.polar.min_ground_range_m);
   EXPECT_EQ(back.gap.robot_radius_m, o.gap.robot_radius_m);
   EXPECT_EQ(back.gap.margin_m, o.gap.margin_m);
+  EXPECT_EQ(back.memory.decisions, o.memory.decisions);
+  EXPECT_EQ(back.memory.radius_m, o.memory.radius_m);
   EXPECT_EQ(back.edges.base_edges, o.edges.base_edges);
   EXPECT_EQ(back.outline.base_trace, o.outline.base_trace);
   EXPECT_EQ(back.outline.base_below_features, o.outline.base_below_features);
@@ -102,6 +106,10 @@ TEST(AvoidYamlTest, ErrorsNameTheFileAndKey) {
   EXPECT_NE(ErrorOf("avod:\n  edges: {}\n").find("`avod` is not a known section"), std::string::npos);
   EXPECT_NE(ErrorOf("avoid: [1, 2\n").find("not valid YAML"), std::string::npos);
   EXPECT_NE(ErrorOf("avoid:\n  polar: {sector_deg: 7}\n").find("sector_deg"), std::string::npos);
+  EXPECT_NE(ErrorOf("avoid:\n  memory: {decisions: -1}\n").find("memory.decisions must be in [0, 1000]"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("avoid:\n  memory: {frames: 3}\n").find("`avoid.memory.frames` is not a known option"),
+            std::string::npos);
 }
 
 }  // namespace
