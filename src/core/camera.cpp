@@ -106,7 +106,10 @@ Eigen::Vector3d CameraModel::PixelRayRobot(const Eigen::Vector2d& pixel) const {
 }
 
 std::optional<Eigen::Vector2d> CameraModel::FloorPoint(const Eigen::Vector2d& pixel) const {
-  const Eigen::Vector3d d = PixelRayRobot(pixel);
+  return FloorPointOfRay(PixelRayRobot(pixel));
+}
+
+std::optional<Eigen::Vector2d> CameraModel::FloorPointOfRay(const Eigen::Vector3d& d) const {
   if (d.z() >= -1e-9) return std::nullopt;
   const double t = height_m / -d.z();
   return Eigen::Vector2d(t * d.x(), t * d.y());

@@ -24,43 +24,7 @@ std::optional<double> Discrepancy(const CameraModel& camera, const Pose2& world_
   return (*b - *a).norm();
 }
 
-std::optional<double> SignedDiscrepancy(const CameraModel& camera, const Pose2& world_T_previous,
-                                        const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
-                                        const Eigen::Vector2d& current_pixel) {
-  const auto a = FloorPointWorld(camera, world_T_previous, previous_pixel);
-  const auto b = FloorPointWorld(camera, world_T_current, current_pixel);
-  if (!a || !b) return std::nullopt;
-  // The optical centre lies above the robot's rotation centre (SEQUENCE_FORMAT.md).
-  const Eigen::Vector2d camera_motion = world_T_current.Apply(camera.RobotCameraCentre().head<2>()) -
-                                        world_T_previous.Apply(camera.RobotCameraCentre().head<2>());
-  const double n = camera_motion.norm();
-  if (n < 1e-12) return std::nullopt;
-  return -(*b - *a).dot(camera_motion) / n;
-}
-
-std::optional<double> MirrorAwareDiscrepancy(const CameraModel& camera, const Pose2& world_T_previous,
-                                             const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
-                                             const Eigen::Vector2d& current_pixel) {
-  const auto a = FloorPointWorld(camera, world_T_previous, previous_pixel);
-  const auto b = FloorPointWorld(camera, world_T_current, current_pixel);
-  if (!a || !b) return std::nullopt;
-  const Eigen::Vector2d camera_motion = world_T_current.Apply(camera.RobotCameraCentre().head<2>()) -
-                                        world_T_previous.Apply(camera.RobotCameraCentre().head<2>());
-  const double n2 = camera_motion.squaredNorm();
-  if (n2 < 1e-24) return std::nullopt;
-  const Eigen::Vector2d moved = *b - *a;
-  const double k = std::clamp(moved.dot(camera_motion) / n2, 0.0, 1.0);
-  return (moved - k * camera_motion).norm();
-}
-
 namespace {
-
-// CameraModel::FloorPoint from the pixel's ray.
-std::optional<Eigen::Vector2d> FloorFromRay(const CameraModel& camera, const Eigen::Vector3d& d) {
-  if (d.z() >= -1e-9) return std::nullopt;
-  const double t = camera.height_m / -d.z();
-  return Eigen::Vector2d(t * d.x(), t * d.y());
-}
 
 // The three discrepancies from the two floor points (world frame) and the camera centre's motion.
 std::optional<Discrepancies> DiscrepanciesFrom(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
@@ -101,9 +65,26 @@ std::optional<Discrepancies> AllDiscrepancies(const CameraModel& camera, const P
   const auto a = FloorPointWorld(camera, world_T_previous, previous_pixel);
   const auto b = FloorPointWorld(camera, world_T_current, current_pixel);
   if (!a || !b) return std::nullopt;
+  // The optical centre lies above the robot's rotation centre (SEQUENCE_FORMAT.md).
   const Eigen::Vector2d camera_motion = world_T_current.Apply(camera.RobotCameraCentre().head<2>()) -
                                         world_T_previous.Apply(camera.RobotCameraCentre().head<2>());
   return DiscrepanciesFrom(*a, *b, camera_motion);
+}
+
+std::optional<double> SignedDiscrepancy(const CameraModel& camera, const Pose2& world_T_previous,
+                                        const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
+                                        const Eigen::Vector2d& current_pixel) {
+  const auto d = AllDiscrepancies(camera, world_T_previous, previous_pixel, world_T_current, current_pixel);
+  if (!d) return std::nullopt;
+  return d->signed_m;
+}
+
+std::optional<double> MirrorAwareDiscrepancy(const CameraModel& camera, const Pose2& world_T_previous,
+                                             const Eigen::Vector2d& previous_pixel, const Pose2& world_T_current,
+                                             const Eigen::Vector2d& current_pixel) {
+  const auto d = AllDiscrepancies(camera, world_T_previous, previous_pixel, world_T_current, current_pixel);
+  if (!d) return std::nullopt;
+  return d->mirror_aware_m;
 }
 
 std::optional<double> MotionEpipolarErrorPx(const CameraModel& camera, const Pose2& world_T_previous,
@@ -134,8 +115,8 @@ FeatureMeasures PairGeometry::Measure(const Eigen::Vector2d& previous_pixel, con
                                       WorldRayFrom(current_.c, current_.s, ray_current));
   m.above_horizon = ray_current.z() >= -1e-9;
   if (!m.above_horizon) {
-    const auto a = FloorFromRay(camera_, ray_previous);
-    const auto b = FloorFromRay(camera_, ray_current);
+    const auto a = camera_.FloorPointOfRay(ray_previous);
+    const auto b = camera_.FloorPointOfRay(ray_current);
     if (a && b)
       m.discrepancies = DiscrepanciesFrom(previous_.Apply(*a), current_.Apply(*b), centre_current_ - centre_previous_);
   }

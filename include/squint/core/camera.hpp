@@ -55,6 +55,8 @@ struct CameraModel {
   // Where the pixel's ray meets the floor z = 0, in the robot frame; none when the ray does
   // not point below the horizon.
   std::optional<Eigen::Vector2d> FloorPoint(const Eigen::Vector2d& pixel) const;
+  // The same for a robot-frame ray from the optical centre (e.g. PixelRayRobot's, computed once).
+  std::optional<Eigen::Vector2d> FloorPointOfRay(const Eigen::Vector3d& ray_robot) const;
   // Projects a robot-frame 3-D point into the image (with distortion); none when it is behind
   // the camera. The result may lie outside the image.
   std::optional<Eigen::Vector2d> Project(const Eigen::Vector3d& robot_point) const;
