@@ -342,7 +342,7 @@ struct Renderer::Impl {
     wall_fast.assign(1, WallFast{});
     for (const WallSegment& ws : world.walls)
       wall_fast.push_back({ws.lo - 1e-7, ws.hi + 1e-7, ws.coord, 0.0, 0.0, ws.along_x ? 0.0 : 1.0, ws.along_x ? 1.0 : 0.0, ws.along_x, ws.material, false});
-    for (std::size_t w = 0; w < world.walls.size(); ++w) wall_fast[w + 1].decals = decal_end[w] > decal_begin[w];
+    for (std::size_t k = 0; k < world.walls.size(); ++k) wall_fast[k + 1].decals = decal_end[k] > decal_begin[k];
     wf = wall_fast.data() + 1;
     for (const Decal& d : decals) has_mirrors = has_mirrors || world.materials[d.material].mirror > 0;
     body_r = world.robot.radius_m;
