@@ -45,6 +45,7 @@ Avoider::Avoider(const CameraModel& camera, AvoidOptions options)
   result_.remembered.reserve(2048);
   all_contacts_.reserve(4096);
   memory_.reserve(4096);
+  remembered_points_.reserve(4096);
 }
 
 void Avoider::Perceive(const cv::Mat& gray, std::span<const ClassifiedFeature> features) {
@@ -110,12 +111,9 @@ const AvoidResult& Avoider::Process(const cv::Mat& gray, std::span<const Classif
   }
   // Forget what is older than `keep` decisions, then add the rest, in this robot frame.
   std::erase_if(memory_, [&](const Remembered& m) { return m.decision < memory_decision_ - keep; });
-  const Pose2 robot_T_odom = odom.Inverse();
-  const double r2 = options_.memory.radius_m * options_.memory.radius_m;
+  RememberedPoints(odom, &remembered_points_);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  for (const Remembered& m : memory_) {
-    const Eigen::Vector2d p = robot_T_odom.Apply(m.odom_m);
-    if (p.squaredNorm() > r2) continue;
+  for (const Eigen::Vector2d& p : remembered_points_) {
     ContactPoint c;
     c.pixel = Eigen::Vector2d(nan, nan);
     c.floor_m = p;

@@ -100,6 +100,7 @@ class Avoider {
   std::vector<Remembered> memory_;
   long memory_decision_ = 0;
   std::vector<ContactPoint> all_contacts_;  // this frame's and the remembered ones
+  std::vector<Eigen::Vector2d> remembered_points_;  // RememberedPoints() of this frame
 
   void Perceive(const cv::Mat& gray, std::span<const ClassifiedFeature> features);
   void Decide(std::span<const ContactPoint> contacts);
