@@ -346,21 +346,36 @@ GnResult RefineScale(const Glance& earlier, const Glance& current, const ScaleWi
   return best;
 }
 
+// The glance columns u0..u1 and rows v0..v1 within ±half sizes of (cx, cy); none when empty.
+struct PixelBox {
+  int u0, u1, v0, v1;
+};
+std::optional<PixelBox> WindowBox(double cx, double cy, double half_width_px, double half_height_px) {
+  const PixelBox b{std::max(0, static_cast<int>(std::ceil(cx - half_width_px))),
+                   std::min(kW - 1, static_cast<int>(std::floor(cx + half_width_px))),
+                   std::max(0, static_cast<int>(std::ceil(cy - half_height_px))),
+                   std::min(kH - 1, static_cast<int>(std::floor(cy + half_height_px)))};
+  if (b.u1 < b.u0 || b.v1 < b.v0) return std::nullopt;
+  return b;
+}
+
+// Grey-level standard deviation of the current glance over a window.
+double WindowContrast(const ScaleWindow& w) {
+  return std::sqrt(std::max(0.0, w.syy / w.n - (w.sy / w.n) * (w.sy / w.n)));
+}
+
 }  // namespace
 
 std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& current, double cx, double cy,
                                          double half_width_px, double half_height_px, double max_scale,
                                          std::optional<double> initial_scale, double accept_ncc) {
   if (!std::isfinite(cx) || !std::isfinite(cy) || !(max_scale > 1.0)) return std::nullopt;
-  const int u0 = std::max(0, static_cast<int>(std::ceil(cx - half_width_px)));
-  const int u1 = std::min(kW - 1, static_cast<int>(std::floor(cx + half_width_px)));
-  const int v0 = std::max(0, static_cast<int>(std::ceil(cy - half_height_px)));
-  const int v1 = std::min(kH - 1, static_cast<int>(std::floor(cy + half_height_px)));
-  if (u1 < u0 || v1 < v0) return std::nullopt;
+  const std::optional<PixelBox> box = WindowBox(cx, cy, half_width_px, half_height_px);
+  if (!box) return std::nullopt;
+  const auto [u0, u1, v0, v1] = *box;
   const ScaleWindow full = MakeWindow(current, u0, u1, v0, v1, 1);
   if (full.n < 12.0) return std::nullopt;
-  const double var = std::max(0.0, full.syy / full.n - (full.sy / full.n) * (full.sy / full.n));
-  const double contrast = std::sqrt(var);
+  const double contrast = WindowContrast(full);
   // Predicted scale: Gauss–Newton from it, accepted when its NCC reaches accept_ncc.
   if (initial_scale && std::isfinite(*initial_scale)) {
     const GnResult r = RefineScale(earlier, current, full, cx, cy, *initial_scale, max_scale);
@@ -389,11 +404,9 @@ std::optional<CellScales> CellExpansionScales(const Glance& earlier, const Glanc
                                               double start_scale, double cell_px, double min_contrast,
                                               double min_ncc, double max_se, int max_cells) {
   if (!std::isfinite(cx) || !std::isfinite(cy) || !(max_scale > 1.0) || !(cell_px >= 1.0)) return std::nullopt;
-  const int u0 = std::max(0, static_cast<int>(std::ceil(cx - half_width_px)));
-  const int u1 = std::min(kW - 1, static_cast<int>(std::floor(cx + half_width_px)));
-  const int v0 = std::max(0, static_cast<int>(std::ceil(cy - half_height_px)));
-  const int v1 = std::min(kH - 1, static_cast<int>(std::floor(cy + half_height_px)));
-  if (u1 < u0 || v1 < v0) return std::nullopt;
+  const std::optional<PixelBox> box = WindowBox(cx, cy, half_width_px, half_height_px);
+  if (!box) return std::nullopt;
+  const auto [u0, u1, v0, v1] = *box;
   // Cells of about cell_px × cell_px: as many as fit (at least one per direction), the window's
   // columns and rows shared out evenly.
   const int nu = std::max(1, static_cast<int>(std::lround((u1 - u0 + 1) / cell_px)));
@@ -423,8 +436,7 @@ std::optional<CellScales> CellExpansionScales(const Glance& earlier, const Glanc
     const Cell& c = grid[k];
     const ScaleWindow w = MakeWindow(current, c.u0, c.u1, c.v0, c.v1, 1);
     if (w.n < 6.0) continue;
-    const double var = std::max(0.0, w.syy / w.n - (w.sy / w.n) * (w.sy / w.n));
-    if (std::sqrt(var) < min_contrast) continue;
+    if (WindowContrast(w) < min_contrast) continue;
     const GnResult r = RefineScale(earlier, current, w, cx, cy, start_scale, max_scale);
     if (r.ncc < min_ncc || !(r.se <= max_se)) continue;
     out.radius_px[out.count] = c.radius;
