@@ -102,6 +102,13 @@ void Run(const CalibrateCliOptions& opt) {
                              d.alpha2, d.beta2, r[1].rmse_m, r[1].sigma0_m, r[1].sigma_slope, r[1].samples);
     std::cout << fmt::format("  entropy  alpha3 {:.4g}  rmse {:.2f} m  sigma(d) = {:.2f} + {:.3f} d  n={}\n", d.alpha3,
                              r[2].rmse_m, r[2].sigma0_m, r[2].sigma_slope, r[2].samples);
+    std::string fused;
+    for (int c = 0; c < corridor::kDistanceCueCount; ++c)
+      if (d.enabled[c] && d.weights[c] > 0.0 && d.fuse[c])
+        fused += std::string(fused.empty() ? "" : ", ") + corridor::CueName(static_cast<corridor::DistanceCue>(c));
+    std::cout << fmt::format("  fused distance: {} (rmse {:.2f} m on these sequences); none when its sigma > {:.2f} m "
+                             "(0 = no limit)\n",
+                             fused.empty() ? "no cue" : fused, file.record.fused_distance_rmse_m, d.fused_max_std_m);
   }
 }
 
@@ -136,6 +143,12 @@ void Register(CLI::App& root) {
   cmd->add_option("--ttc-cell-nearest", opt->fit.ttc_cell_nearest,
                   "Only this many cells nearest the expansion centre count (0 = all)")
       ->capture_default_str();
+  cmd->add_flag("--all-distance-cues{false}", opt->fit.select_distance_cues,
+                "Fuse every distance cue (default: the subset whose fused estimate has the lowest RMSE on these "
+                "sequences; the others are reported, not fused)");
+  cmd->add_flag("--no-fused-std-limit{false}", opt->fit.fused_std_gate,
+                "Give a fused distance however uncertain (default: none when its sigma exceeds the standard "
+                "deviation of the true distances on these sequences)");
   cmd->add_flag("--heading-weights-from-variance", opt->fit.heading_weights_from_variance,
                 "Set each heading cue's fusion weight to 1/sigma^2 of its calibrated error (the paper's rule; "
                 "default: keep the base options' weights)");

@@ -131,6 +131,9 @@ void ReadDistance(const YAML::Node& node, const std::string& source, corridor::D
         m.Get("valid_min_m", d.valid_min_m[i]);
         m.Get("valid_max_m", d.valid_max_m[i]);
         m.Get("error_growth_per_m", d.error_growth_per_m[i]);
+        bool fuse = d.fuse[i];
+        m.Get("fuse", fuse);
+        d.fuse[i] = fuse;
         m.CheckUnknown();
       }
     }
@@ -170,6 +173,7 @@ void ReadDistance(const YAML::Node& node, const std::string& source, corridor::D
   r.Get("ttc_cell_min_expansion", d.ttc_cell_min_expansion);
   r.Get("ttc_cell_nearest", d.ttc_cell_nearest);
   r.Get("ttc_cell_nearest_at_min_window", d.ttc_cell_nearest_at_min_window);
+  r.Get("fused_max_std_m", d.fused_max_std_m);
   r.CheckUnknown();
 }
 
@@ -277,7 +281,8 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
       << YAML::Key << "enabled" << YAML::Value << static_cast<bool>(d.enabled[i]) << YAML::Key << "weight"
       << YAML::Value << d.weights[i] << YAML::Key << "valid_min_m" << YAML::Value << d.valid_min_m[i]
       << YAML::Key << "valid_max_m" << YAML::Value << d.valid_max_m[i] << YAML::Key << "error_growth_per_m"
-      << YAML::Value << d.error_growth_per_m[i] << YAML::EndMap;
+      << YAML::Value << d.error_growth_per_m[i] << YAML::Key << "fuse" << YAML::Value << static_cast<bool>(d.fuse[i])
+      << YAML::EndMap;
   }
   e << YAML::EndMap;
   e << YAML::Key << "ttc_scale" << YAML::Value << d.ttc_scale;
@@ -314,6 +319,7 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
   e << YAML::Key << "ttc_cell_min_expansion" << YAML::Value << d.ttc_cell_min_expansion;
   e << YAML::Key << "ttc_cell_nearest" << YAML::Value << d.ttc_cell_nearest;
   e << YAML::Key << "ttc_cell_nearest_at_min_window" << YAML::Value << d.ttc_cell_nearest_at_min_window;
+  e << YAML::Key << "fused_max_std_m" << YAML::Value << d.fused_max_std_m;
   e << YAML::EndMap;
   e << YAML::Key << "gate" << YAML::Value << YAML::BeginMap << YAML::Key << "enabled" << YAML::Value
     << o.gate.enabled << YAML::Key << "threshold" << YAML::Value << o.gate.threshold << YAML::Key

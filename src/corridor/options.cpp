@@ -134,6 +134,7 @@ std::string DistanceOptions::Validate() const {
       e << cue << " needs 0 <= valid_min_m < valid_max_m; ";
     if (!Finite(error_growth_per_m[i]) || error_growth_per_m[i] < 0.0) e << cue << ".error_growth_per_m must be >= 0; ";
   }
+  if (!Finite(fused_max_std_m) || fused_max_std_m < 0.0) e << "distance.fused_max_std_m must be >= 0; ";
   if (!Finite(ttc_window_min_height_px) || ttc_window_min_height_px < 1.0)
     e << "distance.ttc_window_min_height_px must be >= 1; ";
   if (median_frames < 1 || median_frames > kMaxDistanceMedianFrames)

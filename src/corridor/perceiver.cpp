@@ -456,15 +456,22 @@ void Perceiver::Fuse(PerceptionResult& result) const {
   }
   // Distance: weighted mean of the available (median-filtered) estimates (paper §5.3), each
   // weight falling with the cue's error growth: inverse variance when σ grows with distance.
+  // Cues with fuse off are reported, not fused; with fused_max_std_m a fused estimate whose
+  // σ = 1 / sqrt(Σ w) exceeds it is not given.
   double sw = 0.0, swd = 0.0;
   for (int i = 0; i < kDistanceCueCount; ++i) {
     DistanceMeasureResult& d = result.distance[i];
-    if (!d.dist_m) continue;
+    if (!d.dist_m || !options_.distance.fuse[i]) continue;
     const double g = 1.0 + options_.distance.error_growth_per_m[i] * std::max(0.0, *d.dist_m);
     const double w = options_.distance.weights[i] / (g * g);
     sw += w;
     swd += w * *d.dist_m;
     d.fused = true;
+  }
+  const double max_std = options_.distance.fused_max_std_m;
+  if (sw > 0.0 && max_std > 0.0 && 1.0 / std::sqrt(sw) > max_std) {
+    for (DistanceMeasureResult& d : result.distance) d.fused = false;
+    return;
   }
   if (sw > 0.0) result.dist_end_m = swd / sw;
 }

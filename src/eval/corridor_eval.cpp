@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -18,6 +19,7 @@
 #include "squint/core/angles.hpp"
 #include "squint/core/error.hpp"
 #include "squint/core/pose.hpp"
+#include "squint/corridor/distance_measures.hpp"
 #include "squint/corridor/perceiver.hpp"
 #include "squint/eval/metrics.hpp"
 #include "squint/eval/plot.hpp"
@@ -73,6 +75,7 @@ void EmitRecord(YAML::Emitter& e, const CalibrationRecord& r) {
     e << YAML::EndMap;
   }
   e << YAML::EndMap;
+  e << YAML::Key << "fused_distance_rmse_m" << YAML::Value << r.fused_distance_rmse_m;
   e << YAML::Key << "distance" << YAML::Value << YAML::BeginMap;
   for (int i = 0; i < kDistanceCueCount; ++i) {
     const DistanceCueCalibration& d = r.distance[i];
@@ -102,6 +105,7 @@ CalibrationRecord ParseRecord(const YAML::Node& root, const std::string& source)
     throw Error(source + ": the second document's 'calibration' must be '" + std::string(kRecordTag) + "'");
   Read(root, "fitted_on", r.fitted_on, source, "");
   Read(root, "intrinsics", r.intrinsics, source, "");
+  Read(root, "fused_distance_rmse_m", r.fused_distance_rmse_m, source, "");
   if (const YAML::Node h = root["heading"]) {
     if (!h.IsMap()) throw Error(source + ": 'heading' must be a mapping");
     for (int i = 0; i < kHeadingCueCount; ++i) {
@@ -254,7 +258,7 @@ CorridorRun RunCorridorSequence(const io::Sequence& sequence, const CorridorRunO
       f.dist_m[c] = d.instant_m;
       f.dist_filtered_raw[c] = d.filtered_input;
       f.dist_filtered_m[c] = d.dist_m;
-      if (d.instant_m) {
+      if (d.instant_m && dopt.fuse[c]) {
         const double g = 1.0 + dopt.error_growth_per_m[c] * std::max(0.0, *d.instant_m);
         sw += dopt.weights[c] / (g * g);
         swd += dopt.weights[c] / (g * g) * *d.instant_m;
@@ -276,7 +280,7 @@ CorridorRun RunCorridorSequence(const io::Sequence& sequence, const CorridorRunO
       kalman.UpdateHeading(*f.heading_deg[c], hc.error_std_deg);
     }
     for (int c = 0; c < kDistanceCueCount; ++c) {
-      if (!f.dist_filtered_m[c]) continue;
+      if (!f.dist_filtered_m[c] || !dopt.fuse[c]) continue;
       const DistanceCueCalibration& dc = options.record.distance[c];
       kalman.UpdateDistance(*f.dist_filtered_m[c],
                             dc.sigma0_m + dc.sigma_slope * std::max(0.0, *f.dist_filtered_m[c]));
@@ -361,6 +365,93 @@ void CheckCalibrationSpread(const std::vector<const io::Sequence*>& sequences, b
     throw Error(fmt::format("singular calibration: the true distances to the end of all {} sequence(s) span only "
                             "{:.3g} m (need >= {:g}); record a drive toward the end (or pass --only heading)",
                             sequences.size(), std::max(0.0, d_hi - d_lo), min_dist_span_m));
+}
+
+namespace {
+
+// The fused distance of one calibration frame under the fitted options for the cues in `mask`
+// (bit c = cue c): each cue's fitted model applied to the Perceiver's filtered input, weighted as
+// Perceiver::Fuse does; its σ = 1 / sqrt(Σ w). None when no cue in the mask answered.
+struct FusedSample {
+  double dist_m = 0.0;
+  double std_m = 0.0;
+};
+std::optional<FusedSample> FuseFrame(const CorridorFrame& f, const corridor::DistanceOptions& d,
+                                     const std::array<std::unique_ptr<corridor::DistanceMeasure>, kDistanceCueCount>& m,
+                                     unsigned mask) {
+  double sw = 0.0, swd = 0.0;
+  for (int c = 0; c < kDistanceCueCount; ++c) {
+    if (!(mask & (1u << c)) || !f.dist_filtered_raw[c]) continue;
+    const std::optional<double> est = m[c]->Distance(*f.dist_filtered_raw[c]);
+    if (!est) continue;
+    const double g = 1.0 + d.error_growth_per_m[c] * std::max(0.0, *est);
+    const double w = d.weights[c] / (g * g);
+    sw += w;
+    swd += w * *est;
+  }
+  if (!(sw > 0.0)) return std::nullopt;
+  return FusedSample{swd / sw, 1.0 / std::sqrt(sw)};
+}
+
+}  // namespace
+
+void ChooseDistanceFusion(const std::vector<CorridorRun>& runs, const CalibrateOptions& options,
+                          CorridorCalibrationFile& out) {
+  corridor::DistanceOptions& d = out.options.distance;
+  std::array<std::unique_ptr<corridor::DistanceMeasure>, kDistanceCueCount> m;
+  m[0] = std::make_unique<corridor::TimeToContactDistance>(d, 0.0, 0.0);
+  m[1] = std::make_unique<corridor::JeffreyDistance>(d);
+  m[2] = std::make_unique<corridor::EntropyDistance>(d);
+  // The frames the distance fits use: driving forward, truth within the fit's window.
+  std::vector<const CorridorFrame*> frames;
+  for (const CorridorRun& run : runs)
+    for (const CorridorFrame& f : run.frames)
+      if (f.moving_forward && f.gt.dist_end_m && *f.gt.dist_end_m >= options.distance.min_truth_m &&
+          *f.gt.dist_end_m <= options.distance.max_truth_m)
+        frames.push_back(&f);
+  if (frames.empty()) return;
+  unsigned available = 0;
+  for (int c = 0; c < kDistanceCueCount; ++c)
+    if (d.enabled[c] && d.weights[c] > 0.0 && d.fuse[c]) available |= 1u << c;
+  if (options.select_distance_cues && available != 0) {
+    // The non-empty subset of the available cues whose fusion has the lowest RMSE over the frames
+    // where it answers; a subset answering on fewer frames than the best coverage of any subset
+    // (less 5 %) is not considered. Ties: the larger subset (the lower mask on equal size).
+    std::size_t best_cover = 0;
+    for (unsigned mask = 1; mask < (1u << kDistanceCueCount); ++mask) {
+      if ((mask & ~available) != 0) continue;
+      std::size_t n = 0;
+      for (const CorridorFrame* f : frames) n += FuseFrame(*f, d, m, mask).has_value();
+      best_cover = std::max(best_cover, n);
+    }
+    unsigned best = available;
+    double best_rmse = HUGE_VAL;
+    for (unsigned mask = 1; mask < (1u << kDistanceCueCount); ++mask) {
+      if ((mask & ~available) != 0) continue;
+      double s2 = 0.0;
+      std::size_t n = 0;
+      for (const CorridorFrame* f : frames)
+        if (const auto e = FuseFrame(*f, d, m, mask)) {
+          s2 += (e->dist_m - *f->gt.dist_end_m) * (e->dist_m - *f->gt.dist_end_m);
+          ++n;
+        }
+      if (n == 0 || static_cast<double>(n) < 0.95 * static_cast<double>(best_cover)) continue;
+      const double rmse = std::sqrt(s2 / static_cast<double>(n));
+      const bool better = rmse < best_rmse - 1e-12 ||
+                          (std::abs(rmse - best_rmse) <= 1e-12 && std::popcount(mask) > std::popcount(best));
+      if (better) best_rmse = rmse, best = mask;
+    }
+    for (int c = 0; c < kDistanceCueCount; ++c)
+      if (available & (1u << c)) d.fuse[c] = (best & (1u << c)) != 0;
+    out.record.fused_distance_rmse_m = best_rmse;
+  }
+  if (options.fused_std_gate) {
+    // The standard deviation of the true distances over the same frames.
+    double sum = 0.0, sum2 = 0.0;
+    for (const CorridorFrame* f : frames) sum += *f->gt.dist_end_m, sum2 += *f->gt.dist_end_m * *f->gt.dist_end_m;
+    const double n = static_cast<double>(frames.size());
+    d.fused_max_std_m = std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n)));
+  }
 }
 
 CorridorCalibrationFile FitCorridorCalibration(const std::vector<CorridorRun>& runs,
@@ -451,6 +542,8 @@ CorridorCalibrationFile FitCorridorCalibration(const std::vector<CorridorRun>& r
       }
     }
   }
+  if (options.fit_distance && (options.select_distance_cues || options.fused_std_gate))
+    ChooseDistanceFusion(runs, options, out);
   if (const std::string bad = out.options.Validate(); !bad.empty())
     throw Error("calibrate: the fitted options are invalid: " + bad);
   return out;

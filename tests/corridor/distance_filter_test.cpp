@@ -174,6 +174,51 @@ TEST(PerceiverDistance, FusionWeightFallsWithTheCueErrorGrowth) {
   EXPECT_NEAR(*r.dist_end_m, (2.0 / 9.0 + 8.0 / 81.0) / (1.0 / 9.0 + 1.0 / 81.0), 1e-9);
 }
 
+TEST(PerceiverDistance, UnfusedCueIsReportedNotFusedAndTooUncertainFusionGivesNone) {
+  // Jeffrey reads 2 m, entropy 8 m (as above), weights 4 and 1 (σ 0.5 m and 1 m).
+  CorridorOptions o = DistanceOnly();
+  o.distance.enabled = {false, true, true};
+  o.distance.median_frames = 1;
+  o.distance.alpha2 = 0.0;
+  o.distance.beta2 = 2.0;
+  o.distance.weights = {1.0, 4.0, 1.0};
+  const Glance a = PlaneAt(10.0), b = PlaneAt(9.0);
+  PreparedGlance pa, pb;
+  ComputeHistogramAndEntropy(a, o.distance.image_bits, pa);
+  ComputeHistogramAndEntropy(b, o.distance.image_bits, pb);
+  o.distance.alpha3 = 8.0 * std::abs(pa.entropy - pb.entropy);
+  auto second = [&](const CorridorOptions& opt) {
+    Perceiver p(opt, std::nullopt);
+    p.ProcessGlance(a, 1.0, 0.1);
+    return p.ProcessGlance(b, 1.0, 0.1);
+  };
+  PerceptionResult r = second(o);
+  ASSERT_TRUE(r.dist_end_m.has_value());
+  EXPECT_NEAR(*r.dist_end_m, (4.0 * 2.0 + 8.0) / 5.0, 1e-9);
+  // Entropy not fused: still measured and reported, the fused distance is Jeffrey's.
+  o.distance.fuse = {true, true, false};
+  r = second(o);
+  ASSERT_TRUE(r.dist_end_m.has_value());
+  EXPECT_NEAR(*r.dist_end_m, 2.0, 1e-9);
+  ASSERT_TRUE(r.Distance(DistanceCue::kEntropy).dist_m.has_value());
+  EXPECT_NEAR(*r.Distance(DistanceCue::kEntropy).dist_m, 8.0, 1e-9);
+  EXPECT_FALSE(r.Distance(DistanceCue::kEntropy).fused);
+  EXPECT_TRUE(r.Distance(DistanceCue::kJeffrey).fused);
+  // The fused σ is 1/sqrt(Σ w): Jeffrey alone 0.5 m, both 1/sqrt(5) = 0.447 m.
+  o.distance.fused_max_std_m = 0.49;
+  r = second(o);
+  EXPECT_FALSE(r.dist_end_m.has_value());
+  EXPECT_FALSE(r.Distance(DistanceCue::kJeffrey).fused);
+  o.distance.fuse = {true, true, true};
+  r = second(o);
+  ASSERT_TRUE(r.dist_end_m.has_value());
+  EXPECT_NEAR(*r.dist_end_m, 3.2, 1e-9);
+  o.distance.fused_max_std_m = 0.44;
+  EXPECT_FALSE(second(o).dist_end_m.has_value());
+  o.distance.fused_max_std_m = -1.0;
+  EXPECT_NE(o.Validate().find("distance.fused_max_std_m"), std::string::npos);
+}
+
 TEST(Gate, SlowDriftAccumulatesAgainstTheLastProcessedFrame) {
   // Entropy 1.000, 1.004, 1.008, ...: each step is 0.4 % of the reference.
   GateOptions paper;

@@ -46,6 +46,9 @@ CorridorCalibrationFile NonDefaultFile() {
   f.record.distance[0].sigma0_m = 0.2;
   f.record.distance[0].sigma_slope = 0.125;
   f.record.distance[1].samples = 441;
+  f.record.fused_distance_rmse_m = 1.75;
+  f.options.distance.fuse = {true, false, true};
+  f.options.distance.fused_max_std_m = 4.25;
   return f;
 }
 
@@ -62,6 +65,10 @@ TEST(CalibrationFile, RoundTripKeepsOptionsAndRecord) {
   EXPECT_DOUBLE_EQ(g.record.distance[0].sigma0_m, 0.2);
   EXPECT_DOUBLE_EQ(g.record.distance[0].sigma_slope, 0.125);
   EXPECT_EQ(g.record.distance[1].samples, 441u);
+  EXPECT_DOUBLE_EQ(g.record.fused_distance_rmse_m, 1.75);
+  EXPECT_FALSE(g.options.distance.fuse[1]);
+  EXPECT_TRUE(g.options.distance.fuse[2]);
+  EXPECT_DOUBLE_EQ(g.options.distance.fused_max_std_m, 4.25);
   // The text is written again identically (a fixed point).
   EXPECT_EQ(CalibrationFileToYaml(g), text);
 }
@@ -163,6 +170,78 @@ TEST(FitCorridorCalibration, FusionWeightsFromVarianceOnlyWhenAskedAndNeverForSw
   }
   EXPECT_EQ(kept.options.distance.weights[2], before.distance.weights[2]);
   EXPECT_FALSE(kept.options.distance.enabled[2]);
+}
+
+// Frames whose cue inputs give known estimates under identity-like models (ttc: d = input;
+// Jeffrey with α2 = −1, β2 = 0: d = J; entropy with α3 = 1: d = 1 / |ΔH|).
+CorridorCalibrationFile KnownModels() {
+  CorridorCalibrationFile f;
+  f.options.distance.alpha2 = -1.0;
+  f.options.distance.beta2 = 0.0;
+  f.options.distance.alpha3 = 1.0;
+  f.options.distance.weights = {1.0, 1.0, 1.0};
+  return f;
+}
+
+TEST(ChooseDistanceFusion, KeepsTheLowestRmseSubsetAndLimitsTheFusedSigmaToTheTruthSpread) {
+  std::vector<CorridorRun> runs(1);
+  double sum = 0.0, sum2 = 0.0;
+  for (int i = 0; i < 100; ++i) {
+    CorridorFrame f;
+    const double d = 1.0 + 0.1 * i;
+    f.gt.dist_end_m = d;
+    f.moving_forward = true;
+    f.dist_filtered_raw[0] = d + (i % 2 == 0 ? 0.2 : -0.2);  // ttc: ±0.2 m
+    f.dist_filtered_raw[1] = d + 1.0;                       // Jeffrey: +1 m
+    f.dist_filtered_raw[2] = 1.0;                           // entropy: always 1 m
+    runs[0].frames.push_back(f);
+    sum += d;
+    sum2 += d * d;
+  }
+  CorridorFrame standing;  // not driving forward: not counted
+  standing.gt.dist_end_m = 50.0;
+  standing.dist_filtered_raw = {std::optional(90.0), std::optional(90.0), std::optional(0.01)};
+  runs[0].frames.push_back(standing);
+  CorridorCalibrationFile f = KnownModels();
+  ChooseDistanceFusion(runs, CalibrateOptions{}, f);
+  // ttc alone (0.2 m) beats ttc + Jeffrey (0.4 / 0.6 m) and every subset with entropy.
+  EXPECT_TRUE(f.options.distance.fuse[0]);
+  EXPECT_FALSE(f.options.distance.fuse[1]);
+  EXPECT_FALSE(f.options.distance.fuse[2]);
+  EXPECT_NEAR(f.record.fused_distance_rmse_m, 0.2, 1e-9);
+  const double n = 100.0;
+  EXPECT_NEAR(f.options.distance.fused_max_std_m, std::sqrt(sum2 / n - (sum / n) * (sum / n)), 1e-9);
+
+  // A cue that answers on half the frames only is not chosen alone, however good there (0.2 m);
+  // with Jeffrey (1 m alone) it is: 0.4 m on the frames where both answer, 1 m on the others.
+  for (std::size_t i = 0; i < runs[0].frames.size(); i += 2) runs[0].frames[i].dist_filtered_raw[0].reset();
+  CorridorCalibrationFile g = KnownModels();
+  g.options.distance.enabled[2] = false;  // a switched-off cue is never chosen
+  CalibrateOptions no_gate;
+  no_gate.fused_std_gate = false;
+  ChooseDistanceFusion(runs, no_gate, g);
+  EXPECT_TRUE(g.options.distance.fuse[0]);
+  EXPECT_TRUE(g.options.distance.fuse[1]);
+  EXPECT_NEAR(g.record.fused_distance_rmse_m, std::sqrt(0.5 * 1.0 + 0.5 * 0.4 * 0.4), 1e-9);
+  EXPECT_TRUE(g.options.distance.fuse[2]);  // untouched: not available to choose
+  EXPECT_EQ(g.options.distance.fused_max_std_m, 0.0);
+
+  // Equal cues: the larger subset.
+  std::vector<CorridorRun> same(1);
+  for (int i = 0; i < 20; ++i) {
+    CorridorFrame e;
+    e.gt.dist_end_m = 1.0 + i;
+    e.moving_forward = true;
+    e.dist_filtered_raw[0] = e.dist_filtered_raw[1] = 1.0 + i;
+    e.dist_filtered_raw[2] = 1.0 / (1.0 + i);
+    same[0].frames.push_back(e);
+  }
+  CorridorCalibrationFile h = KnownModels();
+  ChooseDistanceFusion(same, CalibrateOptions{}, h);
+  EXPECT_TRUE(h.options.distance.fuse[0]);
+  EXPECT_TRUE(h.options.distance.fuse[1]);
+  EXPECT_TRUE(h.options.distance.fuse[2]);
+  EXPECT_NEAR(h.record.fused_distance_rmse_m, 0.0, 1e-9);
 }
 
 TEST(FitCorridorCalibration, TurnsTheHeadingFilterOnWithEachCuesSigmaUnlessAskedNotTo) {

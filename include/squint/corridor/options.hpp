@@ -173,6 +173,15 @@ struct DistanceOptions {
   // estimate d is weights[c] / (1 + growth[c] · d)², i.e. inverse variance for an error
   // σ(d) = σ0 · (1 + growth · d) with weights[c] = 1/σ0² (0 = a constant weight).
   std::array<double, kDistanceCueCount> error_growth_per_m = {0.0, 0.0, 0.0};
+  // Per cue: whether its estimate enters the fused distance (false: measured and reported, not
+  // fused). `squint calibrate` keeps the subset of cues whose fusion has the lowest RMSE on the
+  // calibration drives (docs/calibration.md).
+  std::array<bool, kDistanceCueCount> fuse = {true, true, true};
+  // No fused distance when its standard deviation, 1 / sqrt(Σ w) over the fused cues' weights
+  // (the weights above are 1/σ² once calibrated), exceeds this (metres; 0 = off, the default).
+  // `squint calibrate` sets it to the standard deviation of the true distances on its drives:
+  // a fused estimate less certain than that says no more than "somewhere in a corridor".
+  double fused_max_std_m = 0.0;
   // Temporal median over the last median_frames frames of each cue's model input (the paper
   // median-filters time to contact), so perceive, eval and explore all see filtered distances.
   // Time-to-contact values (metres) are first moved to the current frame by the odometry

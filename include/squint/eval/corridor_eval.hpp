@@ -56,6 +56,9 @@ struct CalibrationRecord {
   bool intrinsics = true;              // false: heading scales are the paper's α (deg per column)
   std::array<HeadingCueCalibration, corridor::kHeadingCueCount> heading{};
   std::array<DistanceCueCalibration, corridor::kDistanceCueCount> distance{};
+  // RMSE (m) of the fused distance on the calibration drives with the chosen cues
+  // (CalibrateOptions::select_distance_cues; 0 = not chosen).
+  double fused_distance_rmse_m = 0.0;
 };
 
 // A calibration file: the perception options and the record.
@@ -156,8 +159,20 @@ struct CalibrateOptions {
   // calibration sets, drive-3-00* fused 0.60 / 3.24 -> 0.40 / 2.87 m, the simulator's
   // corridor-0…4 drives 4.12 / 2.78 -> 4.16 / 2.63 m.
   int ttc_cell_nearest = 8;
+  // The distance fusion (ChooseDistanceFusion): keep only the subset of cues whose fused estimate
+  // has the lowest RMSE on the calibration drives (the others are reported, not fused), and give
+  // no fused estimate whose σ exceeds the standard deviation of the true distances there.
+  bool select_distance_cues = true;
+  bool fused_std_gate = true;
   std::string Validate() const;
 };
+
+// Sets out.options.distance.fuse (select_distance_cues) and fused_max_std_m (fused_std_gate)
+// from the calibration runs, with the fitted models and weights already in out.options: the
+// frames driving forward with a true distance within options.distance's window. Subsets that
+// answer on fewer than 95 % of the frames the best-covering subset answers on are not chosen.
+void ChooseDistanceFusion(const std::vector<CorridorRun>& runs, const CalibrateOptions& options,
+                          CorridorCalibrationFile& out);
 
 // The options `squint calibrate` measures with and writes: `base` with the choices above
 // applied (the far-structure cells when distance is fitted and the base has none).
