@@ -135,6 +135,8 @@ TextureTable MakeTexture(const Material& m, std::uint32_t seed) {
       t.sat[static_cast<std::size_t>(y + 1) * kS + x + 1] = t.sat[static_cast<std::size_t>(y) * kS + x + 1] + row;
     }
   }
+  t.sat_last_col.resize(kS);
+  for (int y = 0; y < kS; ++y) t.sat_last_col[y] = t.sat[static_cast<std::size_t>(y) * kS + kTexSize];
   return t;
 }
 

@@ -22,6 +22,9 @@ struct TextureTable {
   // Summed-area table of one period of the table: sat[y * (kTexSize + 1) + x] is the sum of
   // texels [0, x) × [0, y); with the periodic extension it gives box means in O(1).
   std::vector<std::uint32_t> sat;
+  // The summed-area table's last column (whole rows' sums, sat[y * (kTexSize + 1) + kTexSize]),
+  // contiguous: a box that wraps around the table reads two of them, which then share a cache line.
+  std::vector<std::uint32_t> sat_last_col;
 
   // Mean factor (texel * gain) over the texels meeting the box [u0, u1] × [v0, v1] (metres,
   // u0 <= u1, v0 <= v1), the table repeated periodically; a box wider than the table is
@@ -60,9 +63,13 @@ inline std::int64_t FloorToInt(double x) {
     const std::int64_t sum = static_cast<std::int64_t>(r1[rx1]) - r1[rx0] - r0[rx1] + r0[rx0];
     return static_cast<float>(static_cast<double>(sum) / area) * gain;
   }
-  const std::int64_t sum = (qx1 - qx0) * (qy1 - qy0) * at(kTexSize, kTexSize) +
-                           (qx1 - qx0) * (at(kTexSize, ry1) - at(kTexSize, ry0)) + (qy1 - qy0) * (at(rx1, kTexSize) - at(rx0, kTexSize)) +
-                           at(rx1, ry1) - at(rx0, ry1) - at(rx1, ry0) + at(rx0, ry0);
+  // (Exact integer sums: the terms whose factor is zero are left out, and their reads with them.)
+  const std::int64_t dqx = qx1 - qx0, dqy = qy1 - qy0;
+  const std::uint32_t* col = sat_last_col.data();
+  std::int64_t sum = at(rx1, ry1) - at(rx0, ry1) - at(rx1, ry0) + at(rx0, ry0);
+  if (dqx != 0) sum += dqx * (static_cast<std::int64_t>(col[ry1]) - col[ry0]);
+  if (dqy != 0) sum += dqy * (at(rx1, kTexSize) - at(rx0, kTexSize));
+  if (dqx != 0 && dqy != 0) sum += dqx * dqy * static_cast<std::int64_t>(col[kTexSize]);
   return static_cast<float>(static_cast<double>(sum) / area) * gain;
 }
 
