@@ -149,6 +149,9 @@ void Register(CLI::App& root) {
   cmd->add_flag("--no-fused-std-limit{false}", opt->fit.fused_std_gate,
                 "Give a fused distance however uncertain (default: none when its sigma exceeds the standard "
                 "deviation of the true distances on these sequences)");
+  cmd->add_option("--fusion-max-truth-m", opt->fit.fusion_max_truth_m,
+                  "The distance fusion's cues and sigma limit are chosen on frames at most this far from the end")
+      ->capture_default_str();
   cmd->add_flag("--heading-weights-from-variance", opt->fit.heading_weights_from_variance,
                 "Set each heading cue's fusion weight to 1/sigma^2 of its calibrated error (the paper's rule; "
                 "default: keep the base options' weights)");

@@ -308,6 +308,8 @@ std::string CalibrateOptions::Validate() const {
     return "ttc_cell_px must be 0 (keep the base's) or >= 3";
   if (!(ttc_cell_quantile >= 0.0 && ttc_cell_quantile <= 1.0)) return "ttc_cell_quantile must be in [0, 1]";
   if (ttc_cell_nearest < 0 || ttc_cell_nearest > 96) return "ttc_cell_nearest must be in [0, 96]";
+  if (!(fusion_max_truth_m > 0.0)) return "fusion_max_truth_m must be positive";
+  if (!(min_fused_coverage >= 0.0 && min_fused_coverage <= 1.0)) return "min_fused_coverage must be in [0, 1]";
   if (std::string s = heading.Validate(); !s.empty()) return "heading: " + s;
   if (std::string s = distance.Validate(); !s.empty()) return "distance: " + s;
   return {};
@@ -402,12 +404,13 @@ void ChooseDistanceFusion(const std::vector<CorridorRun>& runs, const CalibrateO
   m[0] = std::make_unique<corridor::TimeToContactDistance>(d, 0.0, 0.0);
   m[1] = std::make_unique<corridor::JeffreyDistance>(d);
   m[2] = std::make_unique<corridor::EntropyDistance>(d);
-  // The frames the distance fits use: driving forward, truth within the fit's window.
+  // The frames the distance fits use (driving forward, truth within the fit's window), up to
+  // fusion_max_truth_m.
   std::vector<const CorridorFrame*> frames;
   for (const CorridorRun& run : runs)
     for (const CorridorFrame& f : run.frames)
       if (f.moving_forward && f.gt.dist_end_m && *f.gt.dist_end_m >= options.distance.min_truth_m &&
-          *f.gt.dist_end_m <= options.distance.max_truth_m)
+          *f.gt.dist_end_m <= std::min(options.distance.max_truth_m, options.fusion_max_truth_m))
         frames.push_back(&f);
   if (frames.empty()) return;
   unsigned available = 0;
@@ -446,11 +449,29 @@ void ChooseDistanceFusion(const std::vector<CorridorRun>& runs, const CalibrateO
     out.record.fused_distance_rmse_m = best_rmse;
   }
   if (options.fused_std_gate) {
-    // The standard deviation of the true distances over the same frames.
+    // The standard deviation of the true distances over the same frames; applied only when it
+    // lowers the fused RMSE there and leaves an estimate on at least min_fused_coverage of them
+    // (the calibrated σ may be far from the fused estimate's real error: the simulator's drives
+    // fit time to contact a σ0 of 6 m, and every fused σ then exceeded the truth's spread).
     double sum = 0.0, sum2 = 0.0;
     for (const CorridorFrame* f : frames) sum += *f->gt.dist_end_m, sum2 += *f->gt.dist_end_m * *f->gt.dist_end_m;
     const double n = static_cast<double>(frames.size());
-    d.fused_max_std_m = std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n)));
+    const double limit = std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n)));
+    unsigned mask = 0;
+    for (int c = 0; c < kDistanceCueCount; ++c)
+      if (d.enabled[c] && d.weights[c] > 0.0 && d.fuse[c]) mask |= 1u << c;
+    double s2_all = 0.0, s2_kept = 0.0;
+    std::size_t n_all = 0, n_kept = 0;
+    for (const CorridorFrame* f : frames)
+      if (const auto e = FuseFrame(*f, d, m, mask)) {
+        const double err2 = (e->dist_m - *f->gt.dist_end_m) * (e->dist_m - *f->gt.dist_end_m);
+        s2_all += err2, ++n_all;
+        if (e->std_m <= limit) s2_kept += err2, ++n_kept;
+      }
+    const bool lower = n_kept > 0 && n_all > 0 &&
+                       s2_kept / static_cast<double>(n_kept) < s2_all / static_cast<double>(n_all);
+    d.fused_max_std_m =
+        lower && static_cast<double>(n_kept) >= options.min_fused_coverage * n ? limit : 0.0;
   }
 }
 

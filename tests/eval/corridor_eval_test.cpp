@@ -183,9 +183,8 @@ CorridorCalibrationFile KnownModels() {
   return f;
 }
 
-TEST(ChooseDistanceFusion, KeepsTheLowestRmseSubsetAndLimitsTheFusedSigmaToTheTruthSpread) {
+TEST(ChooseDistanceFusion, KeepsTheLowestRmseSubsetWithinFifteenMetres) {
   std::vector<CorridorRun> runs(1);
-  double sum = 0.0, sum2 = 0.0;
   for (int i = 0; i < 100; ++i) {
     CorridorFrame f;
     const double d = 1.0 + 0.1 * i;
@@ -195,13 +194,16 @@ TEST(ChooseDistanceFusion, KeepsTheLowestRmseSubsetAndLimitsTheFusedSigmaToTheTr
     f.dist_filtered_raw[1] = d + 1.0;                       // Jeffrey: +1 m
     f.dist_filtered_raw[2] = 1.0;                           // entropy: always 1 m
     runs[0].frames.push_back(f);
-    sum += d;
-    sum2 += d * d;
   }
   CorridorFrame standing;  // not driving forward: not counted
   standing.gt.dist_end_m = 50.0;
   standing.dist_filtered_raw = {std::optional(90.0), std::optional(90.0), std::optional(0.01)};
   runs[0].frames.push_back(standing);
+  CorridorFrame beyond;  // driving, but beyond fusion_max_truth_m (15 m): not counted either
+  beyond.gt.dist_end_m = 20.0;
+  beyond.moving_forward = true;
+  beyond.dist_filtered_raw = {std::optional(60.0), std::optional(21.0), std::optional(0.05)};
+  runs[0].frames.push_back(beyond);
   CorridorCalibrationFile f = KnownModels();
   ChooseDistanceFusion(runs, CalibrateOptions{}, f);
   // ttc alone (0.2 m) beats ttc + Jeffrey (0.4 / 0.6 m) and every subset with entropy.
@@ -209,8 +211,9 @@ TEST(ChooseDistanceFusion, KeepsTheLowestRmseSubsetAndLimitsTheFusedSigmaToTheTr
   EXPECT_FALSE(f.options.distance.fuse[1]);
   EXPECT_FALSE(f.options.distance.fuse[2]);
   EXPECT_NEAR(f.record.fused_distance_rmse_m, 0.2, 1e-9);
-  const double n = 100.0;
-  EXPECT_NEAR(f.options.distance.fused_max_std_m, std::sqrt(sum2 / n - (sum / n) * (sum / n)), 1e-9);
+  // Every frame has a time-to-contact estimate with σ 1 m, below the truth's spread: the limit
+  // would drop nothing, so it is not written.
+  EXPECT_EQ(f.options.distance.fused_max_std_m, 0.0);
 
   // A cue that answers on half the frames only is not chosen alone, however good there (0.2 m);
   // with Jeffrey (1 m alone) it is: 0.4 m on the frames where both answer, 1 m on the others.
@@ -242,6 +245,46 @@ TEST(ChooseDistanceFusion, KeepsTheLowestRmseSubsetAndLimitsTheFusedSigmaToTheTr
   EXPECT_TRUE(h.options.distance.fuse[1]);
   EXPECT_TRUE(h.options.distance.fuse[2]);
   EXPECT_NEAR(h.record.fused_distance_rmse_m, 0.0, 1e-9);
+}
+
+TEST(ChooseDistanceFusion, SigmaLimitIsTheTruthSpreadWhenItLowersTheErrorWithEnoughCoverage) {
+  // ttc exact (σ 1 m) except on `missing` of 100 frames; Jeffrey 10 m long (σ 5 m) on all. The
+  // truth's spread (1 … 10.9 m) is 2.9 m: Jeffrey alone is above it, with ttc the σ is 0.98 m.
+  auto runs_missing = [](int missing) {
+    std::vector<CorridorRun> runs(1);
+    for (int i = 0; i < 100; ++i) {
+      CorridorFrame f;
+      const double d = 1.0 + 0.1 * i;
+      f.gt.dist_end_m = d;
+      f.moving_forward = true;
+      if (i >= missing) f.dist_filtered_raw[0] = d;
+      f.dist_filtered_raw[1] = d + 10.0;
+      runs[0].frames.push_back(f);
+    }
+    return runs;
+  };
+  double sum = 0.0, sum2 = 0.0;
+  for (int i = 0; i < 100; ++i) sum += 1.0 + 0.1 * i, sum2 += (1.0 + 0.1 * i) * (1.0 + 0.1 * i);
+  const double spread = std::sqrt(sum2 / 100.0 - (sum / 100.0) * (sum / 100.0));
+  CalibrateOptions all_cues;
+  all_cues.select_distance_cues = false;
+  CorridorCalibrationFile f = KnownModels();
+  f.options.distance.weights = {1.0, 1.0 / 25.0, 1.0};
+  CorridorCalibrationFile g = f;
+  ChooseDistanceFusion(runs_missing(5), all_cues, f);
+  EXPECT_NEAR(f.options.distance.fused_max_std_m, spread, 1e-9);
+  EXPECT_EQ(f.options.distance.fuse, (std::array<bool, 3>{true, true, true}));  // not chosen: kept
+  // 20 frames without ttc: the limit would leave 80 % < 90 % of the frames, so none.
+  ChooseDistanceFusion(runs_missing(20), all_cues, g);
+  EXPECT_EQ(g.options.distance.fused_max_std_m, 0.0);
+  CalibrateOptions low = all_cues;
+  low.min_fused_coverage = 0.8;
+  CorridorCalibrationFile h = KnownModels();
+  h.options.distance.weights = {1.0, 1.0 / 25.0, 1.0};
+  ChooseDistanceFusion(runs_missing(20), low, h);
+  EXPECT_NEAR(h.options.distance.fused_max_std_m, spread, 1e-9);
+  low.fusion_max_truth_m = 0.0;
+  EXPECT_NE(low.Validate().find("fusion_max_truth_m"), std::string::npos);
 }
 
 TEST(FitCorridorCalibration, TurnsTheHeadingFilterOnWithEachCuesSigmaUnlessAskedNotTo) {

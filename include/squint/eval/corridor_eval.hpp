@@ -164,13 +164,21 @@ struct CalibrateOptions {
   // no fused estimate whose σ exceeds the standard deviation of the true distances there.
   bool select_distance_cues = true;
   bool fused_std_gate = true;
+  // Both judged on the frames whose true distance is at most this (and within the distance fits'
+  // window): the range the distance targets are set on (0.3–15 m), so that a simulator drive's
+  // 15–30 m does not decide the fusion used nearer.
+  double fusion_max_truth_m = 15.0;
+  // The σ limit is written only when it lowers the fused RMSE on those frames and leaves an
+  // estimate on at least this fraction of them (the coverage target); else 0 (none).
+  double min_fused_coverage = 0.9;
   std::string Validate() const;
 };
 
 // Sets out.options.distance.fuse (select_distance_cues) and fused_max_std_m (fused_std_gate)
 // from the calibration runs, with the fitted models and weights already in out.options: the
 // frames driving forward with a true distance within options.distance's window. Subsets that
-// answer on fewer than 95 % of the frames the best-covering subset answers on are not chosen.
+// answer on fewer than 95 % of the frames the best-covering subset answers on are not chosen;
+// the σ limit is kept only when it lowers the fused RMSE with min_fused_coverage of the frames.
 void ChooseDistanceFusion(const std::vector<CorridorRun>& runs, const CalibrateOptions& options,
                           CorridorCalibrationFile& out);
 
