@@ -106,7 +106,7 @@ IptOptions IptOptionsFromYaml(const std::string& text, const std::string& source
   if (const YAML::Node f = root["features"]) {
     r.RequireMap(f, "features",
                  {"detector", "max_features", "ratio", "sift_contrast_threshold", "sift_octave_layers",
-                  "sift_first_octave", "orb_fast_threshold", "orb_levels", "akaze_threshold", "klt_quality", "klt_min_distance_px",
+                  "sift_first_octave", "orb_fast_threshold", "orb_levels", "orb_upright", "akaze_threshold", "klt_quality", "klt_min_distance_px",
                   "klt_window_px", "klt_levels", "klt_max_fb_error_px", "refine_subpixel", "refine_window_px",
                   "refine_max_shift_px", "max_displacement_px"});
     std::string detector = obstacles::DetectorName(o.features.detector);
@@ -121,6 +121,7 @@ IptOptions IptOptionsFromYaml(const std::string& text, const std::string& source
     r.Get(f, "features", "sift_first_octave", &x.sift_first_octave);
     r.Get(f, "features", "orb_fast_threshold", &x.orb_fast_threshold);
     r.Get(f, "features", "orb_levels", &x.orb_levels);
+    r.Get(f, "features", "orb_upright", &x.orb_upright);
     r.Get(f, "features", "akaze_threshold", &x.akaze_threshold);
     r.Get(f, "features", "klt_quality", &x.klt_quality);
     r.Get(f, "features", "klt_min_distance_px", &x.klt_min_distance_px);
@@ -200,6 +201,7 @@ std::string IptOptionsToYaml(const IptOptions& o) {
   e << YAML::Key << "sift_first_octave" << YAML::Value << f.sift_first_octave;
   e << YAML::Key << "orb_fast_threshold" << YAML::Value << f.orb_fast_threshold;
   e << YAML::Key << "orb_levels" << YAML::Value << f.orb_levels;
+  e << YAML::Key << "orb_upright" << YAML::Value << f.orb_upright;
   e << YAML::Key << "akaze_threshold" << YAML::Value << f.akaze_threshold;
   e << YAML::Key << "klt_quality" << YAML::Value << f.klt_quality;
   e << YAML::Key << "klt_min_distance_px" << YAML::Value << f.klt_min_distance_px;

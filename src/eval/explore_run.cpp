@@ -48,6 +48,7 @@ std::optional<double> CentreCue(const corridor::PerceptionResult& r) {
 obstacles::IptOptions LoopIptOptions() {
   obstacles::IptOptions o;
   o.features.detector = obstacles::Detector::kOrb;
+  o.features.orb_upright = false;  // OpenCV's ORB (Harris, oriented): the loop as tuned with it
   return o;
 }
 

@@ -267,7 +267,9 @@ __attribute__((target("avx2,popcnt"))) void HammingNearest32Avx2(const std::uint
 class DescriptorTracker : public FeatureTracker {
  public:
   DescriptorTracker(Detector kind, cv::Ptr<cv::Feature2D> feature, int norm, const FeatureOptions& options)
-      : kind_(kind), feature_(std::move(feature)), norm_(norm), options_(options) {}
+      : kind_(kind), feature_(std::move(feature)), norm_(norm), options_(options) {
+    if (kind_ == Detector::kOrb && options_.orb_upright) upright_ = std::make_unique<UprightOrbDetector>(options_);
+  }
 
   Detector Kind() const override { return kind_; }
 
@@ -324,6 +326,7 @@ class DescriptorTracker : public FeatureTracker {
   cv::Mat dist_;  // float descriptor distances (SIFT), current rows × previous columns
   std::vector<std::uint64_t> words_cur_, words_prev_;  // binary descriptors as 64-bit words
   NearestTable nearest_;
+  std::unique_ptr<UprightOrbDetector> upright_;  // ORB with orb_upright
   std::vector<cv::Point2f> from_, to_, start_;
   std::vector<unsigned char> status_;
   std::vector<float> err_;
@@ -351,6 +354,10 @@ class DescriptorTracker : public FeatureTracker {
   // Keypoints and descriptors of one image; with a native first octave (SIFT), on the half-size
   // image, keypoints mapped back (half-size pixel i covers full-size pixels 2i and 2i + 1).
   void Detect(const cv::Mat& image, std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors) {
+    if (upright_) {
+      upright_->Detect(image, keypoints, descriptors);
+      return;
+    }
     if (!(kind_ == Detector::kSift && options_.sift_first_octave == 0)) {
       feature_->detectAndCompute(image, cv::noArray(), *keypoints, *descriptors);
       return;
@@ -598,6 +605,71 @@ void ShiTomasiDetector::Detect(const cv::Mat& image, int max_corners, double qua
     corners->push_back(p);
     if (static_cast<int>(corners->size()) == max_n) break;
   }
+}
+
+UprightOrbDetector::UprightOrbDetector(const FeatureOptions& options)
+    : levels_(options.orb_levels),
+      threshold_(options.orb_fast_threshold),
+      orb_(cv::ORB::create(options.max_features, kScaleFactor, options.orb_levels, kEdge, 0, 2, cv::ORB::FAST_SCORE,
+                           kPatch, options.orb_fast_threshold)),
+      per_level_(static_cast<std::size_t>(options.orb_levels)),
+      pyramid_(static_cast<std::size_t>(options.orb_levels)) {
+  SQUINT_ENSURE(options.Validate().empty(), options.Validate());
+  // ORB's split of the feature count over the levels: a geometric series, the rest on the last level
+  // (float arithmetic as in OpenCV 4.6's computeKeyPoints).
+  const auto factor = static_cast<float>(1.0 / static_cast<double>(kScaleFactor));
+  float per_scale = static_cast<float>(options.max_features) * (1 - factor) /
+                    (1 - static_cast<float>(std::pow(static_cast<double>(factor), static_cast<double>(levels_))));
+  int sum = 0;
+  for (int l = 0; l + 1 < levels_; ++l) {
+    per_level_[static_cast<std::size_t>(l)] = cvRound(per_scale);
+    sum += per_level_[static_cast<std::size_t>(l)];
+    per_scale *= factor;
+  }
+  per_level_.back() = std::max(options.max_features - sum, 0);
+}
+
+void UprightOrbDetector::Detect(const cv::Mat& image, std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors) {
+  keypoints->clear();
+  descriptors_.resize(0);
+  // FAST reads 3 px around a pixel and compares its score with the 8 around it: corners from 15 px
+  // inwards need the level from 11 px inwards.
+  constexpr int kMargin = kEdge - 4;
+  for (int l = 0; l < levels_; ++l) {
+    // ORB's level scale and size (float, as OpenCV computes them).
+    const auto scale = static_cast<float>(std::pow(static_cast<double>(kScaleFactor), static_cast<double>(l)));
+    const float inv_scale = 1.0f / scale;
+    const cv::Size size(cvRound(static_cast<float>(image.cols) * inv_scale),
+                        cvRound(static_cast<float>(image.rows) * inv_scale));
+    cv::Mat& level = pyramid_[static_cast<std::size_t>(l)];
+    if (l == 0)
+      level = image;
+    else
+      cv::resize(pyramid_[static_cast<std::size_t>(l - 1)], level, size, 0.0, 0.0, cv::INTER_LINEAR_EXACT);
+    if (size.width <= 2 * kEdge || size.height <= 2 * kEdge) break;  // no keypoint here or further up
+    const cv::Rect inner(kMargin, kMargin, size.width - 2 * kMargin, size.height - 2 * kMargin);
+    cv::FAST(level(inner), level_kp_, threshold_, true);
+    for (cv::KeyPoint& k : level_kp_) k.pt += cv::Point2f(static_cast<float>(kMargin), static_cast<float>(kMargin));
+    cv::KeyPointsFilter::runByImageBorder(level_kp_, size, kEdge);
+    cv::KeyPointsFilter::retainBest(level_kp_, per_level_[static_cast<std::size_t>(l)]);
+    if (level_kp_.empty()) continue;
+    for (cv::KeyPoint& k : level_kp_) k.angle = 0.f;
+    // ORB's descriptors of this level's keypoints, with the level image as ORB's own level 0: the
+    // same reflected border, 7 × 7 Gaussian blur and samples as in ORB's level l (the unrotated
+    // pattern stays within 15 px of a keypoint), without resizing a whole pyramid again.
+    orb_->detectAndCompute(level, cv::noArray(), level_kp_, level_desc_, true);
+    descriptors_.push_back(level_desc_);
+    for (cv::KeyPoint& k : level_kp_) {
+      k.octave = l;
+      k.size = static_cast<float>(kPatch) * scale;
+      k.pt *= scale;
+      keypoints->push_back(k);
+    }
+  }
+  if (keypoints->empty())
+    descriptors->release();
+  else
+    descriptors_.copyTo(*descriptors);
 }
 
 std::unique_ptr<FeatureTracker> MakeFeatureTracker(const FeatureOptions& options) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <random>
+#include <string>
 #include <tuple>
 
 #include <opencv2/features2d.hpp>
@@ -57,26 +58,52 @@ std::vector<PointPair> Reference(const cv::Ptr<cv::Feature2D>& feature, int norm
   return out;
 }
 
+// The upright ORB reference: OpenCV's ORB with FAST_SCORE, every keypoint's angle set to 0, and ORB's
+// descriptors of those keypoints computed on its whole pyramid (ORB::compute).
+class UprightOrbReference : public cv::Feature2D {
+ public:
+  UprightOrbReference(int n, const FeatureOptions& o)
+      : orb_(cv::ORB::create(n, 1.2f, o.orb_levels, 15, 0, 2, cv::ORB::FAST_SCORE, 31, o.orb_fast_threshold)) {}
+  void detectAndCompute(cv::InputArray image, cv::InputArray mask, std::vector<cv::KeyPoint>& keypoints,
+                        cv::OutputArray descriptors, bool /*use_provided*/) override {
+    orb_->detect(image, keypoints, mask);
+    for (cv::KeyPoint& k : keypoints) k.angle = 0.f;
+    orb_->compute(image, keypoints, descriptors);
+  }
+
+ private:
+  cv::Ptr<cv::ORB> orb_;
+};
+
+cv::Ptr<cv::Feature2D> OrbReference(int n, const FeatureOptions& o) {
+  if (o.orb_upright) return cv::makePtr<UprightOrbReference>(n, o);
+  return cv::ORB::create(n, 1.2f, o.orb_levels, 15, 0, 2, cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
+}
+
 TEST(FeatureTracker, DescriptorMatchesEqualOpenCvReferenceMatching) {
   const cv::Mat a = TexturedImage(), b = Zoomed(a);
   FeatureOptions o;
   o.sift_first_octave = -1;  // OpenCV's own SIFT (image doubled); the native first octave: below
   struct Case {
     Detector detector;
+    bool orb_upright;
     cv::Ptr<cv::Feature2D> feature;
     int norm;
   };
   auto akaze = cv::AKAZE::create();
   akaze->setThreshold(o.akaze_threshold);
+  FeatureOptions oriented = o;
+  oriented.orb_upright = false;
   const Case cases[] = {
-      {Detector::kSift, cv::SIFT::create(o.max_features, o.sift_octave_layers, o.sift_contrast_threshold), cv::NORM_L2},
-      {Detector::kOrb,
-       cv::ORB::create(o.max_features, 1.2f, o.orb_levels, 15, 0, 2, cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold),
-       cv::NORM_HAMMING},
-      {Detector::kAkaze, akaze, cv::NORM_HAMMING},  // 61-byte descriptors: not a multiple of 8
+      {Detector::kSift, true, cv::SIFT::create(o.max_features, o.sift_octave_layers, o.sift_contrast_threshold),
+       cv::NORM_L2},
+      {Detector::kOrb, true, OrbReference(o.max_features, o), cv::NORM_HAMMING},                 // the default
+      {Detector::kOrb, false, OrbReference(o.max_features, oriented), cv::NORM_HAMMING},  // OpenCV's ORB
+      {Detector::kAkaze, true, akaze, cv::NORM_HAMMING},  // 61-byte descriptors: not a multiple of 8
   };
   for (const Case& c : cases) {
     o.detector = c.detector;
+    o.orb_upright = c.orb_upright;
     const auto tracker = MakeFeatureTracker(o);
     std::vector<Match> matches;
     tracker->Track(a, b, &matches);
@@ -84,38 +111,101 @@ TEST(FeatureTracker, DescriptorMatchesEqualOpenCvReferenceMatching) {
     for (const Match& m : matches) got.emplace_back(m.previous.x, m.previous.y, m.current.x, m.current.y);
     std::sort(got.begin(), got.end());
     const auto want = Reference(c.feature, c.norm, a, b, o);
-    EXPECT_GE(want.size(), 20u) << DetectorName(c.detector);
-    EXPECT_EQ(got, want) << DetectorName(c.detector);
+    EXPECT_GE(want.size(), 20u) << DetectorName(c.detector) << " upright " << c.orb_upright;
+    EXPECT_EQ(got, want) << DetectorName(c.detector) << " upright " << c.orb_upright;
     // The matches follow the zoom: current ≈ centre + 1.03 (previous − centre) within 1.5 px for most.
     std::size_t consistent = 0;
     for (const Match& m : matches) {
       const cv::Point2f predicted = cv::Point2f(128.f, 120.f) + 1.03f * (m.previous - cv::Point2f(128.f, 120.f));
       consistent += cv::norm(predicted - m.current) < 1.5 ? 1 : 0;
     }
-    EXPECT_GE(consistent, matches.size() * 9 / 10) << DetectorName(c.detector);
+    EXPECT_GE(consistent, matches.size() * 9 / 10) << DetectorName(c.detector) << " upright " << c.orb_upright;
   }
 }
 
 // ORB matching with descriptor counts that are not multiples of 8 (the vectorised distance loop's
-// remainder) and different in the two frames: still the reference matches.
+// remainder) and different in the two frames: still the reference matches, upright and oriented.
 TEST(FeatureTracker, OrbMatchesEqualReferenceForOddDescriptorCounts) {
   const cv::Mat a = TexturedImage(), b = Zoomed(a);
-  for (int n : {203, 61, 13}) {
-    FeatureOptions o;
-    o.detector = Detector::kOrb;
-    o.max_features = n;
-    const auto tracker = MakeFeatureTracker(o);
-    std::vector<Match> matches;
-    tracker->Track(a, b, &matches);
-    std::vector<PointPair> got;
-    for (const Match& m : matches) got.emplace_back(m.previous.x, m.previous.y, m.current.x, m.current.y);
-    std::sort(got.begin(), got.end());
-    const auto orb =
-        cv::ORB::create(n, 1.2f, o.orb_levels, 15, 0, 2, cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
-    const auto want = Reference(orb, cv::NORM_HAMMING, a, b, o);
-    EXPECT_GE(want.size(), 3u) << n;
-    EXPECT_EQ(got, want) << n;
-  }
+  for (bool upright : {true, false})
+    for (int n : {203, 61, 13}) {
+      FeatureOptions o;
+      o.detector = Detector::kOrb;
+      o.orb_upright = upright;
+      o.max_features = n;
+      const auto tracker = MakeFeatureTracker(o);
+      std::vector<Match> matches;
+      tracker->Track(a, b, &matches);
+      std::vector<PointPair> got;
+      for (const Match& m : matches) got.emplace_back(m.previous.x, m.previous.y, m.current.x, m.current.y);
+      std::sort(got.begin(), got.end());
+      const auto want = Reference(OrbReference(n, o), cv::NORM_HAMMING, a, b, o);
+      EXPECT_GE(want.size(), 3u) << n << " upright " << upright;
+      EXPECT_EQ(got, want) << n << " upright " << upright;
+    }
+}
+
+// The upright ORB detector's keypoints are OpenCV's ORB's with FAST_SCORE (position, level, size,
+// response, order) with angle 0, and its descriptors ORB::compute's of them, byte for byte: on
+// textures, noise of odd size, a busy noisy texture, a checkerboard (many equal FAST scores: the ties
+// at the cut), a flat image (none), images whose upper levels are too small for any keypoint and one
+// too small for any, with several feature counts, level counts and FAST thresholds.
+TEST(FeatureTracker, UprightOrbIsOrbFastScoreUnrotated) {
+  std::vector<cv::Mat> images;
+  images.push_back(TexturedImage());
+  images.push_back(Zoomed(TexturedImage()));
+  cv::RNG rng(5);
+  cv::Mat noise(97, 131, CV_8U);
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
+  images.push_back(noise);
+  cv::Mat busy(192, 256, CV_8U), fine(192, 256, CV_8U), small(24, 32, CV_8U);
+  rng.fill(small, cv::RNG::UNIFORM, 0, 256);
+  cv::resize(small, busy, busy.size(), 0, 0, cv::INTER_CUBIC);
+  rng.fill(fine, cv::RNG::UNIFORM, 0, 40);
+  busy = busy * 0.8 + fine;
+  images.push_back(busy);
+  cv::Mat board(192, 256, CV_8U);
+  for (int y = 0; y < board.rows; ++y)
+    for (int x = 0; x < board.cols; ++x) board.at<unsigned char>(y, x) = ((x / 8 + y / 8) % 2) ? 200 : 40;
+  images.push_back(board);
+  images.push_back(cv::Mat(192, 256, CV_8U, cv::Scalar(77)));
+  images.push_back(noise(cv::Rect(0, 0, 40, 36)).clone());  // level 1 is 33 × 30: too small
+  images.push_back(noise(cv::Rect(5, 7, 30, 30)).clone());  // no level holds a keypoint
+  std::size_t nonempty = 0;
+  for (std::size_t k = 0; k < images.size(); ++k)
+    for (const auto& [n, levels, threshold] :
+         {std::tuple{400, 3, 20}, std::tuple{203, 4, 10}, std::tuple{13, 1, 30}, std::tuple{1000, 3, 5}}) {
+      FeatureOptions o;
+      o.max_features = n;
+      o.orb_levels = levels;
+      o.orb_fast_threshold = threshold;
+      UprightOrbDetector detector(o);
+      std::vector<cv::KeyPoint> got, want;
+      cv::Mat got_desc, want_desc;
+      detector.Detect(images[k], &got, &got_desc);
+      UprightOrbReference(n, o).detectAndCompute(images[k], cv::noArray(), want, want_desc, false);
+      const std::string where = "image " + std::to_string(k) + " n " + std::to_string(n);
+      ASSERT_EQ(got.size(), want.size()) << where;
+      for (std::size_t i = 0; i < got.size(); ++i) {
+        EXPECT_EQ(got[i].pt.x, want[i].pt.x) << where << " keypoint " << i;
+        EXPECT_EQ(got[i].pt.y, want[i].pt.y) << where << " keypoint " << i;
+        EXPECT_EQ(got[i].octave, want[i].octave) << where << " keypoint " << i;
+        EXPECT_EQ(got[i].size, want[i].size) << where << " keypoint " << i;
+        EXPECT_EQ(got[i].response, want[i].response) << where << " keypoint " << i;
+        EXPECT_EQ(got[i].angle, 0.f) << where << " keypoint " << i;
+      }
+      if (got.empty()) {
+        EXPECT_TRUE(got_desc.empty()) << where;
+        continue;
+      }
+      ++nonempty;
+      ASSERT_EQ(got_desc.rows, static_cast<int>(got.size())) << where;
+      ASSERT_EQ(got_desc.cols, 32) << where;
+      ASSERT_EQ(got_desc.type(), CV_8U) << where;
+      ASSERT_EQ(want_desc.size(), got_desc.size()) << where;
+      EXPECT_EQ(cv::norm(got_desc, want_desc, cv::NORM_L1), 0.0) << where;
+    }
+  EXPECT_GE(nonempty, 20u);  // the check is not vacuous
 }
 
 // SIFT with a native first octave runs OpenCV's SIFT on the half-size images: the same matches as the
