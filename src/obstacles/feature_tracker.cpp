@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <sstream>
 #include <utility>
@@ -279,9 +280,9 @@ class DescriptorTracker : public FeatureTracker {
       std::swap(kp_prev_, kp_cur_);
       cv::swap(desc_prev_, desc_cur_);
     } else {
-      Detect(previous, &kp_prev_, &desc_prev_);
+      Detect(previous, &kp_prev_, &desc_prev_, false);
     }
-    Detect(current, &kp_cur_, &desc_cur_);
+    Detect(current, &kp_cur_, &desc_cur_, true);  // upright ORB: FAST starts from the earlier frame's cuts
     current.copyTo(last_current_);
     if (kp_prev_.size() < 2 || kp_cur_.size() < 2) return;
     const int rows = desc_cur_.rows, cols = desc_prev_.rows;
@@ -353,9 +354,9 @@ class DescriptorTracker : public FeatureTracker {
 
   // Keypoints and descriptors of one image; with a native first octave (SIFT), on the half-size
   // image, keypoints mapped back (half-size pixel i covers full-size pixels 2i and 2i + 1).
-  void Detect(const cv::Mat& image, std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors) {
+  void Detect(const cv::Mat& image, std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors, bool from_last) {
     if (upright_) {
-      upright_->Detect(image, keypoints, descriptors);
+      upright_->Detect(image, keypoints, descriptors, from_last);
       return;
     }
     if (!(kind_ == Detector::kSift && options_.sift_first_octave == 0)) {
@@ -613,6 +614,7 @@ UprightOrbDetector::UprightOrbDetector(const FeatureOptions& options)
       orb_(cv::ORB::create(options.max_features, kScaleFactor, options.orb_levels, kEdge, 0, 2, cv::ORB::FAST_SCORE,
                            kPatch, options.orb_fast_threshold)),
       per_level_(static_cast<std::size_t>(options.orb_levels)),
+      cuts_(static_cast<std::size_t>(options.orb_levels)),
       pyramid_(static_cast<std::size_t>(options.orb_levels)) {
   SQUINT_ENSURE(options.Validate().empty(), options.Validate());
   // ORB's split of the feature count over the levels: a geometric series, the rest on the last level
@@ -629,30 +631,64 @@ UprightOrbDetector::UprightOrbDetector(const FeatureOptions& options)
   per_level_.back() = std::max(options.max_features - sum, 0);
 }
 
-void UprightOrbDetector::Detect(const cv::Mat& image, std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors) {
+void UprightOrbDetector::Detect(const cv::Mat& image, std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors,
+                                bool from_last) {
   keypoints->clear();
   descriptors_.resize(0);
+  const bool hinted = from_last && have_cuts_;
+  std::fill(cuts_.begin(), cuts_.end(), threshold_);
   // FAST reads 3 px around a pixel and compares its score with the 8 around it: corners from 15 px
   // inwards need the level from 11 px inwards.
   constexpr int kMargin = kEdge - 4;
   for (int l = 0; l < levels_; ++l) {
+    const auto li = static_cast<std::size_t>(l);
     // ORB's level scale and size (float, as OpenCV computes them).
     const auto scale = static_cast<float>(std::pow(static_cast<double>(kScaleFactor), static_cast<double>(l)));
     const float inv_scale = 1.0f / scale;
     const cv::Size size(cvRound(static_cast<float>(image.cols) * inv_scale),
                         cvRound(static_cast<float>(image.rows) * inv_scale));
-    cv::Mat& level = pyramid_[static_cast<std::size_t>(l)];
+    cv::Mat& level = pyramid_[li];
     if (l == 0)
       level = image;
     else
-      cv::resize(pyramid_[static_cast<std::size_t>(l - 1)], level, size, 0.0, 0.0, cv::INTER_LINEAR_EXACT);
+      cv::resize(pyramid_[li - 1], level, size, 0.0, 0.0, cv::INTER_LINEAR_EXACT);
+    const int n = per_level_[li];
     if (size.width <= 2 * kEdge || size.height <= 2 * kEdge) break;  // no keypoint here or further up
+    if (n == 0) continue;
+    // The level's kept corners are those with a FAST score of at least the n-th best score c. A
+    // corner's score does not depend on the threshold, and a corner with score s ≥ t survives the
+    // non-maximum test at threshold t exactly when it survives it at the options' threshold (its
+    // neighbours below t score less than s either way): FAST at any t ≤ c finds all of them. So
+    // FAST starts at a threshold below the cut that a similar frame had (3/4 of it: the pair's
+    // earlier frame for the later one, the level below for the earlier frame's upper levels, 4 ×
+    // the threshold for its level 0) and halves it, down to the options' threshold, until it finds n
+    // corners: the same keypoints at any start; only the time differs.
+    int t = threshold_;
+    if (hinted)
+      t = std::max(threshold_, last_cuts_[li] * 3 / 4);
+    else
+      t = l == 0 ? 4 * threshold_ : std::max(threshold_, cuts_[li - 1] * 3 / 4);
     const cv::Rect inner(kMargin, kMargin, size.width - 2 * kMargin, size.height - 2 * kMargin);
-    cv::FAST(level(inner), level_kp_, threshold_, true);
-    for (cv::KeyPoint& k : level_kp_) k.pt += cv::Point2f(static_cast<float>(kMargin), static_cast<float>(kMargin));
-    cv::KeyPointsFilter::runByImageBorder(level_kp_, size, kEdge);
-    cv::KeyPointsFilter::retainBest(level_kp_, per_level_[static_cast<std::size_t>(l)]);
+    for (;;) {
+      cv::FAST(level(inner), level_kp_, t, true);
+      for (cv::KeyPoint& k : level_kp_) k.pt += cv::Point2f(static_cast<float>(kMargin), static_cast<float>(kMargin));
+      cv::KeyPointsFilter::runByImageBorder(level_kp_, size, kEdge);
+      if (static_cast<int>(level_kp_.size()) >= n || t == threshold_) break;
+      t = std::max(threshold_, t / 2);
+    }
     if (level_kp_.empty()) continue;
+    // The n best by score and every corner tied with the n-th (as KeyPointsFilter::retainBest keeps
+    // them), in FAST's order (row by row).
+    if (static_cast<int>(level_kp_.size()) > n) {
+      scores_.clear();
+      for (const cv::KeyPoint& k : level_kp_) scores_.push_back(k.response);
+      std::nth_element(scores_.begin(), scores_.begin() + (n - 1), scores_.end(), std::greater<float>());
+      const float cut = scores_[static_cast<std::size_t>(n - 1)];
+      level_kp_.erase(std::remove_if(level_kp_.begin(), level_kp_.end(),
+                                     [cut](const cv::KeyPoint& k) { return k.response < cut; }),
+                      level_kp_.end());
+      cuts_[li] = static_cast<int>(cut);
+    }
     for (cv::KeyPoint& k : level_kp_) k.angle = 0.f;
     // ORB's descriptors of this level's keypoints, with the level image as ORB's own level 0: the
     // same reflected border, 7 × 7 Gaussian blur and samples as in ORB's level l (the unrotated
@@ -666,6 +702,8 @@ void UprightOrbDetector::Detect(const cv::Mat& image, std::vector<cv::KeyPoint>*
       keypoints->push_back(k);
     }
   }
+  last_cuts_ = cuts_;
+  have_cuts_ = true;
   if (keypoints->empty())
     descriptors->release();
   else

@@ -58,8 +58,9 @@ std::vector<PointPair> Reference(const cv::Ptr<cv::Feature2D>& feature, int norm
   return out;
 }
 
-// The upright ORB reference: OpenCV's ORB with FAST_SCORE, every keypoint's angle set to 0, and ORB's
-// descriptors of those keypoints computed on its whole pyramid (ORB::compute).
+// The upright ORB reference: OpenCV's ORB with FAST_SCORE, its keypoints level by level and row by
+// row, every angle set to 0, and ORB's descriptors of those keypoints computed on its whole pyramid
+// (ORB::compute).
 class UprightOrbReference : public cv::Feature2D {
  public:
   UprightOrbReference(int n, const FeatureOptions& o)
@@ -67,6 +68,9 @@ class UprightOrbReference : public cv::Feature2D {
   void detectAndCompute(cv::InputArray image, cv::InputArray mask, std::vector<cv::KeyPoint>& keypoints,
                         cv::OutputArray descriptors, bool /*use_provided*/) override {
     orb_->detect(image, keypoints, mask);
+    std::stable_sort(keypoints.begin(), keypoints.end(), [](const cv::KeyPoint& p, const cv::KeyPoint& q) {
+      return std::tie(p.octave, p.pt.y, p.pt.x) < std::tie(q.octave, q.pt.y, q.pt.x);
+    });
     for (cv::KeyPoint& k : keypoints) k.angle = 0.f;
     orb_->compute(image, keypoints, descriptors);
   }
@@ -146,10 +150,11 @@ TEST(FeatureTracker, OrbMatchesEqualReferenceForOddDescriptorCounts) {
 }
 
 // The upright ORB detector's keypoints are OpenCV's ORB's with FAST_SCORE (position, level, size,
-// response, order) with angle 0, and its descriptors ORB::compute's of them, byte for byte: on
-// textures, noise of odd size, a busy noisy texture, a checkerboard (many equal FAST scores: the ties
-// at the cut), a flat image (none), images whose upper levels are too small for any keypoint and one
-// too small for any, with several feature counts, level counts and FAST thresholds.
+// response; level by level, row by row) with angle 0, and its descriptors ORB::compute's of them,
+// byte for byte: on textures, noise of odd size, a busy noisy texture, a checkerboard (many equal
+// FAST scores: the ties at the cut), a flat image (none), images whose upper levels are too small for
+// any keypoint and one too small for any, with several feature counts, level counts and FAST
+// thresholds; and the same whichever image's cuts FAST starts from (from_last).
 TEST(FeatureTracker, UprightOrbIsOrbFastScoreUnrotated) {
   std::vector<cv::Mat> images;
   images.push_back(TexturedImage());
@@ -185,6 +190,19 @@ TEST(FeatureTracker, UprightOrbIsOrbFastScoreUnrotated) {
       detector.Detect(images[k], &got, &got_desc);
       UprightOrbReference(n, o).detectAndCompute(images[k], cv::noArray(), want, want_desc, false);
       const std::string where = "image " + std::to_string(k) + " n " + std::to_string(n);
+      // Starting FAST from the cuts of each image (higher, lower, none, the same): the same result.
+      for (std::size_t j = 0; j < images.size(); ++j) {
+        std::vector<cv::KeyPoint> again;
+        cv::Mat again_desc;
+        detector.Detect(images[j], &again, &again_desc);
+        detector.Detect(images[k], &again, &again_desc, true);
+        ASSERT_EQ(again.size(), got.size()) << where << " after image " << j;
+        for (std::size_t i = 0; i < got.size(); ++i) {
+          EXPECT_EQ(again[i].pt, got[i].pt) << where << " after image " << j << " keypoint " << i;
+          EXPECT_EQ(again[i].response, got[i].response) << where << " after image " << j << " keypoint " << i;
+        }
+        if (!got.empty()) EXPECT_EQ(cv::norm(again_desc, got_desc, cv::NORM_L1), 0.0) << where << " after " << j;
+      }
       ASSERT_EQ(got.size(), want.size()) << where;
       for (std::size_t i = 0; i < got.size(); ++i) {
         EXPECT_EQ(got[i].pt.x, want[i].pt.x) << where << " keypoint " << i;

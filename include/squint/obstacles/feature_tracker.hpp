@@ -36,7 +36,7 @@ struct FeatureOptions {
   // instead of 4: ≈ 10% faster, mean AUC 0.779 against 0.760 on ../shared/data/obstacles-*).
   int orb_fast_threshold = 20;
   int orb_levels = 3;
-  // true: ORB keypoints kept by FAST score, descriptors unrotated (UprightOrbDetector: ≈ 20% fewer
+  // true: ORB keypoints kept by FAST score, descriptors unrotated (UprightOrbDetector: ≈ 38% fewer
   // instructions per bench pair than OpenCV's ORB, every figure of the detector table on
   // ../shared/data/obstacles-* at least as good; docs/obstacles.md); false: OpenCV's
   // ORB::detectAndCompute (twice the kept share of the FAST corners re-scored by Harris,
@@ -111,20 +111,23 @@ class ShiTomasiDetector {
 };
 
 // ORB keypoints kept by FAST score with upright (unrotated) descriptors, the ORB tracker's detector
-// with FeatureOptions::orb_upright. The keypoints (positions, octave, size, response, order) are
-// those of OpenCV 4.6's ORB with ORB::FAST_SCORE and the options' feature count, levels and FAST
-// threshold (scale factor 1.2, edge threshold 15, patch 31), with angle 0 instead of ORB's
-// intensity-centroid orientation; the descriptors are ORB's (ORB::compute) for those keypoints.
-// It runs OpenCV's pieces: the levels resized as ORB resizes them, cv::FAST on each level's interior
-// only (ORB's own detector scans the 15-px border as well and drops its corners afterwards), no
-// Harris scores and no orientations, and ORB's descriptor level by level.
+// with FeatureOptions::orb_upright. The keypoints (positions, octave, size, response) are those of
+// OpenCV 4.6's ORB with ORB::FAST_SCORE and the options' feature count, levels and FAST threshold
+// (scale factor 1.2, edge threshold 15, patch 31), level by level and within a level row by row,
+// with angle 0 instead of ORB's intensity-centroid orientation; the descriptors are ORB's
+// (ORB::compute) for those keypoints. It runs OpenCV's pieces: the levels resized as ORB resizes
+// them, cv::FAST on each level's interior only (ORB's own detector scans the 15-px border as well
+// and drops its corners afterwards) and from a threshold near the level's cut down (the same
+// corners: Detect), no Harris scores and no orientations, and ORB's descriptor level by level.
 class UprightOrbDetector {
  public:
   // Options must be valid (SQUINT_ENSURE).
   explicit UprightOrbDetector(const FeatureOptions& options);
   // `image`: 8-bit grey. `keypoints` in full-size pixels, level by level; `descriptors` one 32-byte
-  // row per keypoint (empty when there is none).
-  void Detect(const cv::Mat& image, std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors);
+  // row per keypoint (empty when there is none). With `from_last`, FAST starts each level from the
+  // cut of the last call's image (a similar frame: fewer FAST passes); the result is the same.
+  void Detect(const cv::Mat& image, std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors,
+              bool from_last = false);
 
  private:
   static constexpr float kScaleFactor = 1.2f;
@@ -132,8 +135,11 @@ class UprightOrbDetector {
   int levels_, threshold_;
   cv::Ptr<cv::ORB> orb_;  // descriptors only
   std::vector<int> per_level_;
+  std::vector<int> cuts_, last_cuts_;  // per level: the lowest kept FAST score (the threshold if all kept)
+  bool have_cuts_ = false;
   std::vector<cv::Mat> pyramid_;
   std::vector<cv::KeyPoint> level_kp_;
+  std::vector<float> scores_;
   cv::Mat level_desc_, descriptors_;
 };
 
