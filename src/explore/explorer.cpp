@@ -27,6 +27,10 @@ std::string Format(const char* fmt, ...) {
 bool Positive(double x) { return std::isfinite(x) && x > 0.0; }
 bool NonNegative(double x) { return std::isfinite(x) && x >= 0.0; }
 
+// Entropy samples of the corridor being followed before they make its reference (until then the
+// reference is carried over from the corridor before or the start-up scan).
+constexpr int kOwnReferenceSamples = 8;
+
 }  // namespace
 
 std::string ExplorerOptions::Validate() const {
@@ -80,8 +84,13 @@ std::string ExplorerOptions::Validate() const {
   if (!Positive(sonar_centre_max_lateral_m)) return "sonar_centre_max_lateral_m must be positive";
   if (!Positive(rescan_yaw_deg)) return "rescan_yaw_deg must be positive";
   if (!NonNegative(trust_memory_after_m)) return "trust_memory_after_m must be >= 0";
+  if (!(trust_memory_max_turn_deg >= 0.0 && trust_memory_max_turn_deg <= 180.0))
+    return "trust_memory_max_turn_deg must be in [0, 180]";
   if (!(blind_view_fraction > 0.0 && blind_view_fraction <= 1.0)) return "blind_view_fraction must be in (0, 1]";
   if (!NonNegative(blind_view_entropy_ratio)) return "blind_view_entropy_ratio must be >= 0";
+  if (!(blind_view_lift_ratio >= blind_view_entropy_ratio && std::isfinite(blind_view_lift_ratio)))
+    return "blind_view_lift_ratio must be >= blind_view_entropy_ratio";
+  if (!NonNegative(blind_view_carried_min_nats)) return "blind_view_carried_min_nats must be >= 0";
   if (!Positive(side_window_m)) return "side_window_m must be positive";
   if (!Positive(side_wall_max_lateral_m)) return "side_wall_max_lateral_m must be positive";
   if (!NonNegative(branch_wall_before_m)) return "branch_wall_before_m must be >= 0";
@@ -165,8 +174,17 @@ void Explorer::UpdateSonar(const Percept& p) {
     for (const SonarColumn& c : *p.sonar) blocked += c.kind == SonarReturn::kBlockedNear ? 1 : 0;
     // Before any corridor was seen (start-up), the start's absolute "corridor view" entropy.
     const double ref = ReferenceEntropy();
-    const double threshold = ref > 0.0 ? opt_.blind_view_entropy_ratio * ref : opt_.start_corridor_entropy_nats;
-    if (blocked >= opt_.blind_view_fraction * static_cast<double>(p.sonar->size()) && *p.glance_entropy_nats >= threshold) {
+    // Until this corridor has its own reference, the carried one counts as at least
+    // blind_view_carried_min_nats (it may be a wall's).
+    const double carried_ref = static_cast<int>(ref_entropy_.size()) < kOwnReferenceSamples
+                                   ? std::max(ref, opt_.blind_view_carried_min_nats)
+                                   : ref;
+    double threshold = ref > 0.0 ? opt_.blind_view_entropy_ratio * carried_ref : opt_.start_corridor_entropy_nats;
+    // After a wall view, a higher bar (hysteresis).
+    if (wall_view_) threshold *= opt_.blind_view_lift_ratio / opt_.blind_view_entropy_ratio;
+    const bool view = blocked >= opt_.blind_view_fraction * static_cast<double>(p.sonar->size());
+    wall_view_ = view && *p.glance_entropy_nats < threshold;
+    if (view && !wall_view_) {
       // A corridor view in the glance, no floor contrast in the sonar: no information.
       sonar_copy_ = *p.sonar;
       for (SonarColumn& c : sonar_copy_)
@@ -185,13 +203,22 @@ void Explorer::UpdateSonar(const Percept& p) {
   last_scan_yaw_ = p.odom_T_robot.yaw;
 }
 
+bool Explorer::UseBlocked(double yaw) const {
+  // After driving down the corridor for more than the blind range, what lies in the blind zone
+  // ahead was seen from farther back (and is remembered): the latest scan's blocked-near columns
+  // then block only the narrow sector (on textured floors they are mostly floor without a visible
+  // step).
+  return !(state_ == ExploreState::kFollow && travel_in_corridor_m_ >= opt_.trust_memory_after_m &&
+           std::abs(WrapPi(yaw - axis_yaw_odom_)) < DegToRad(45.0));
+}
+
 double Explorer::Free(const Percept& p, double yaw, double max_m) const {
-  // After driving straight for more than the blind range, what lies in the blind zone ahead was
-  // seen from farther back (and is remembered): the latest scan's blocked-near columns are then
-  // ignored (on textured floors they are mostly floor without a visible step).
-  const bool use_blocked = !(state_ == ExploreState::kFollow && travel_in_corridor_m_ >= opt_.trust_memory_after_m &&
-                             std::abs(WrapPi(yaw - axis_yaw_odom_)) < DegToRad(45.0));
-  return memory_.FreeTravel(p.odom_T_robot, yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m, use_blocked);
+  const bool use_blocked = UseBlocked(yaw);
+  // Where the floor there was seen they are ignored, unless the robot turned since (it was seen
+  // from the side, not from behind).
+  const bool straight = opt_.trust_memory_max_turn_deg <= 0.0 || straight_travel_m_ >= opt_.trust_memory_after_m;
+  return memory_.FreeTravel(p.odom_T_robot, yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m, use_blocked,
+                            straight);
 }
 
 double Explorer::BestGap(const Percept& p, double desired_yaw, double* free) const {
@@ -248,6 +275,12 @@ void Explorer::UpdateMapPose(const Percept& p) {
   map_pose_.yaw = yaw;
   if (state_ == ExploreState::kFollow) {
     travel_in_corridor_m_ += std::abs(ds);
+    if (std::abs(WrapPi(p.odom_T_robot.yaw - straight_yaw_)) > DegToRad(opt_.trust_memory_max_turn_deg)) {
+      straight_yaw_ = p.odom_T_robot.yaw;
+      straight_travel_m_ = 0.0;
+    } else {
+      straight_travel_m_ += std::abs(ds);
+    }
     if (dist_end_m_ >= 0.0) dist_end_m_ = std::max(0.0, dist_end_m_ - ds * std::cos(WrapPi(p.odom_T_robot.yaw - axis_yaw_odom_)));
   }
   last_odom_ = p.odom_T_robot;
@@ -428,6 +461,8 @@ void Explorer::StartFollow(const Percept&) {
   state_ = ExploreState::kFollow;
   end_count_ = 0;
   travel_in_corridor_m_ = 0.0;
+  straight_yaw_ = last_odom_.yaw;
+  straight_travel_m_ = 0.0;
   dist_end_m_ = -1.0;
   dist_hist_.clear();
   entropy_low_count_ = 0;
@@ -475,7 +510,7 @@ void Explorer::UpdateAxis(const Percept& p) {
 }
 
 double Explorer::ReferenceEntropy() const {
-  if (ref_entropy_.size() < 8) return last_ref_entropy_;
+  if (static_cast<int>(ref_entropy_.size()) < kOwnReferenceSamples) return last_ref_entropy_;
   std::vector<double> v = ref_entropy_;
   const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(opt_.reference_percentile * static_cast<double>(v.size())));
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());

@@ -189,7 +189,7 @@ void ObstacleMemory::Gather(const Pose2& odom_T_robot, double stamp_s) {
 }
 
 double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m,
-                                  bool use_blocked) const {
+                                  bool use_blocked, bool seen_free_exempts) const {
   const Eigen::Vector2d o = odom_T_robot.Translation();
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
   const double r2 = radius_m * radius_m;
@@ -208,7 +208,9 @@ double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double 
     const double byaw = blocked_yaws_[static_cast<std::size_t>(i)];
     const double dy = std::remainder(byaw - yaw, 2.0 * M_PI);
     if (std::abs(dy) < half) {
-      if (!use_blocked && !view_blocked && SeenFree(blocked_from_, byaw, radius_m, blocked_range_m_, blocked_stamp_s_)) continue;
+      if (!use_blocked && seen_free_exempts && !view_blocked &&
+          SeenFree(blocked_from_, byaw, radius_m, blocked_range_m_, blocked_stamp_s_))
+        continue;
       free = std::min(free, std::max(0.0, (blocked_from_ - o).dot(d)));
       break;
     }

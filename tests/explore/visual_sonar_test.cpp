@@ -414,6 +414,8 @@ TEST(ObstacleMemory, BlockedNearStopsForwardTravelUnlessTheFloorThereWasSeen) {
   seen.Gather(Pose2{}, 1.0);
   EXPECT_EQ(seen.FreeTravel(Pose2{}, 0.0, 0.35, 5.0), 0.0);
   EXPECT_NEAR(seen.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, /*use_blocked=*/false), 1.3 - 0.35, 0.05);
+  // The robot turned since that floor was seen (seen_free_exempts false): the blockage counts.
+  EXPECT_EQ(seen.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, false, /*seen_free_exempts=*/false), 0.0);
 }
 
 // A wall filling the view on blocked_view_scans consecutive scans stops forward travel even where
