@@ -205,6 +205,7 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
       const double cpu1 = ThreadCpuSeconds();
       p.sonar = &sonar->Process(sv);
       p.sonar_near_blind_m = sonar->NearBlindRangeM();
+      p.sonar_wall_lines = sonar->WallLineFraction();
       perception_cpu += ThreadCpuSeconds() - cpu1;
     }
     // The obstacle pipeline, only while following (a pair needs forward motion; turning in place

@@ -91,6 +91,7 @@ std::string ExplorerOptions::Validate() const {
   if (!(blind_view_lift_ratio >= blind_view_entropy_ratio && std::isfinite(blind_view_lift_ratio)))
     return "blind_view_lift_ratio must be >= blind_view_entropy_ratio";
   if (!NonNegative(blind_view_carried_min_nats)) return "blind_view_carried_min_nats must be >= 0";
+  if (!(blind_view_max_wall_lines >= 0.0 && blind_view_max_wall_lines <= 1.0)) return "blind_view_max_wall_lines must be in [0, 1]";
   if (!Positive(side_window_m)) return "side_window_m must be positive";
   if (!Positive(side_wall_max_lateral_m)) return "side_wall_max_lateral_m must be positive";
   if (!NonNegative(branch_wall_before_m)) return "branch_wall_before_m must be >= 0";
@@ -183,7 +184,12 @@ void Explorer::UpdateSonar(const Percept& p) {
     // After a wall view, a higher bar (hysteresis).
     if (wall_view_) threshold *= opt_.blind_view_lift_ratio / opt_.blind_view_entropy_ratio;
     const bool view = blocked >= opt_.blind_view_fraction * static_cast<double>(p.sonar->size());
-    wall_view_ = view && *p.glance_entropy_nats < threshold;
+    // While following, a view with a brick wall's periodic mortar lines is a wall whatever its
+    // entropy (the lines keep it at corridor level); turning in place keeps the entropy rule (the
+    // probe's view of a branch mouth beside a brick corner).
+    const bool wall_lines = opt_.blind_view_max_wall_lines > 0.0 && state_ == ExploreState::kFollow &&
+                            p.sonar_wall_lines >= opt_.blind_view_max_wall_lines;
+    wall_view_ = view && (*p.glance_entropy_nats < threshold || wall_lines);
     if (view && !wall_view_) {
       // A corridor view in the glance, no floor contrast in the sonar: no information.
       sonar_copy_ = *p.sonar;

@@ -28,6 +28,12 @@ std::string VisualSonarOptions::Validate() const {
   if (floor_edge_min_rows < 1 || floor_edge_min_rows > 16) return "floor_edge_min_rows must be in [1, 16]";
   if (min_reference_columns < 1 || min_reference_columns > 640) return "min_reference_columns must be in [1, 640]";
   if (!(gradient_unknown_levels >= 0.0) || !std::isfinite(gradient_unknown_levels)) return "gradient_unknown_levels must be >= 0";
+  if (wall_line_band_columns < 2 || wall_line_band_columns > 640) return "wall_line_band_columns must be in [2, 640]";
+  if (wall_line_detrend_rows < 1 || wall_line_detrend_rows > 16) return "wall_line_detrend_rows must be in [1, 16]";
+  if (!(wall_line_min_std >= 0.0) || !std::isfinite(wall_line_min_std)) return "wall_line_min_std must be >= 0";
+  if (!(wall_line_min_correlation > 0.0 && wall_line_min_correlation <= 1.0)) return "wall_line_min_correlation must be in (0, 1]";
+  if (wall_line_min_lag < 1 || wall_line_max_lag < wall_line_min_lag || wall_line_max_lag > 64)
+    return "wall_line lags must satisfy 1 <= wall_line_min_lag <= wall_line_max_lag <= 64";
   return {};
 }
 
@@ -63,6 +69,51 @@ VisualSonar::VisualSonar(const CameraModel& camera, const VisualSonarOptions& op
   unknown_.assign(static_cast<std::size_t>(w), 0);
   edge_.assign(static_cast<std::size_t>(w), 0.0);
   reference_floor_rows_ = options_.min_floor_rows + 3;
+  band_rows_.assign(static_cast<std::size_t>(h), 0.0);
+  line_.assign(static_cast<std::size_t>(h), 0.0);
+}
+
+void VisualSonar::MeasureWallLines(GrayView image) {
+  const int w = camera_.width;
+  const int h = camera_.height;
+  const int bw = options_.wall_line_band_columns;
+  const int r = options_.wall_line_detrend_rows;
+  const int n = h - 2 * r;  // rows with a full detrend window
+  int bands = 0, lined = 0;
+  for (int u0 = 0; u0 + bw <= w; u0 += bw) {
+    ++bands;
+    for (int v = 0; v < h; ++v) {
+      const std::uint8_t* row = image.Row(v);
+      int s = 0;
+      for (int x = u0; x < u0 + bw; ++x) s += row[x];
+      band_rows_[static_cast<std::size_t>(v)] = static_cast<double>(s) / bw;
+    }
+    if (n <= options_.wall_line_min_lag + 2) continue;
+    double mean = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const int v = i + r;
+      double s = 0.0;
+      for (int j = v - r; j <= v + r; ++j) s += band_rows_[static_cast<std::size_t>(j)];
+      line_[static_cast<std::size_t>(i)] = band_rows_[static_cast<std::size_t>(v)] - s / (2 * r + 1);
+      mean += line_[static_cast<std::size_t>(i)];
+    }
+    mean /= n;
+    double e = 0.0;
+    for (int i = 0; i < n; ++i) {
+      line_[static_cast<std::size_t>(i)] -= mean;
+      e += line_[static_cast<std::size_t>(i)] * line_[static_cast<std::size_t>(i)];
+    }
+    e /= n;
+    if (!(e > 0.0) || std::sqrt(e) < options_.wall_line_min_std) continue;
+    double best = 0.0;
+    for (int lag = options_.wall_line_min_lag; lag <= std::min(options_.wall_line_max_lag, n - 3); ++lag) {
+      double c = 0.0;
+      for (int i = 0; i + lag < n; ++i) c += line_[static_cast<std::size_t>(i)] * line_[static_cast<std::size_t>(i + lag)];
+      best = std::max(best, c / (n - lag) / e);
+    }
+    if (best >= options_.wall_line_min_correlation) ++lined;
+  }
+  wall_line_fraction_ = bands > 0 ? static_cast<double>(lined) / bands : 0.0;
 }
 
 int VisualSonar::FindStep(int base) const {
@@ -114,6 +165,7 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
   SQUINT_ENSURE(!image.Empty() && image.width == w && image.height == h,
                 "visual sonar: the frame must be " + std::to_string(w) + "x" + std::to_string(h));
   const float thr = static_cast<float>(options_.step_threshold);
+  MeasureWallLines(image);
   for (int u = 0; u < w; ++u) {
     const int u0 = std::max(0, u - options_.column_half_width);
     const int u1 = std::min(w - 1, u + options_.column_half_width);

@@ -391,6 +391,7 @@ struct ScriptedSonar {
   Pose2 pose;
   int frame = 0;
   double entropy = kOpenEntropy;
+  double wall_lines = 0.0;  // Percept::sonar_wall_lines of each scan
   std::vector<SonarColumn> scan;
   std::function<SonarReturn(double bearing_rad)> column = [](double) { return SonarReturn::kFar; };
 
@@ -413,6 +414,7 @@ struct ScriptedSonar {
       }
       p.sonar = &scan;
       p.sonar_near_blind_m = 1.2;
+      p.sonar_wall_lines = wall_lines;
     }
     const Command c = e.Step(p);
     if (apply) {
@@ -537,6 +539,45 @@ TEST(Explorer, CarriedLowReferenceDoesNotMakeWallsBlindViews) {
   }
 }
 
+// A brick wall within the blind range ahead keeps the glance entropy at corridor level (3.0 of a
+// 3.3 reference, above the 0.85 ratio): without the wall-line rule it reads as a blind view and the
+// guard lets the robot drive on; with it (blind_view_max_wall_lines 0.375), a scan whose frame
+// shows periodic lines in 0.75 of its bands is a wall and the robot stops; 0.25 stays blind.
+TEST(Explorer, BlindViewWithWallLinesWhileFollowingIsAWall) {
+  for (const double rule : {0.375, 0.0}) {
+    for (const double lines : {0.75, 0.25}) {
+      ExplorerOptions o;
+      o.detect_branches = false;
+      o.blind_view_max_wall_lines = rule;
+      Explorer e(o);
+      ScriptedSonar w;
+      ASSERT_TRUE(w.UntilFollowing(e));
+      while (w.pose.x < 2.0) w.Step(e);  // the corridor's own reference: 3.3 nats
+      ASSERT_EQ(e.BlindViews(), 0);
+      w.entropy = 3.0;
+      w.wall_lines = lines;
+      w.column = [](double) { return SonarReturn::kBlockedNear; };
+      double travel = 0.0;
+      long blind_following = 0;  // the rule reads views while following (not when stopped to turn)
+      for (int i = 0; i < 30; ++i) {
+        const double x0 = w.pose.x;
+        const bool following = e.State() == ExploreState::kFollow;
+        const long before = e.BlindViews();
+        w.Step(e);
+        if (following) blind_following += e.BlindViews() - before;
+        travel += std::abs(w.pose.x - x0);
+      }
+      if (rule > 0.0 && lines >= rule) {
+        EXPECT_EQ(blind_following, 0) << lines;
+        EXPECT_LT(travel, 0.2) << "travel";  // stopped by the blockage
+      } else {
+        EXPECT_GT(blind_following, 5) << rule << " " << lines;
+        EXPECT_GT(travel, 0.6) << rule << " " << lines;
+      }
+    }
+  }
+}
+
 TEST(Explorer, OptionsValidateNamesTheField) {
   ExplorerOptions o;
   EXPECT_TRUE(o.Validate().empty());
@@ -545,6 +586,9 @@ TEST(Explorer, OptionsValidateNamesTheField) {
   o = {};
   o.map.merge_radius_m = 0.0;
   EXPECT_NE(o.Validate().find("merge_radius_m"), std::string::npos);
+  o = {};
+  o.blind_view_max_wall_lines = 1.5;
+  EXPECT_NE(o.Validate().find("blind_view_max_wall_lines"), std::string::npos);
 }
 
 }  // namespace

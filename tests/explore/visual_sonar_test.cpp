@@ -313,6 +313,70 @@ TEST(VisualSonar, SmoothFloorGradientWithoutReferenceIsUnknownNotBlocked) {
   for (const SonarColumn& c : old.Process(floor.View())) EXPECT_EQ(c.kind, SonarReturn::kBlockedNear);
 }
 
+// Grey level with a small deterministic noise (render noise of the simulator's frames: +-3).
+std::uint8_t Noisy(double level, int u, int v) {
+  const unsigned hsh = (static_cast<unsigned>(u) * 73856093u) ^ (static_cast<unsigned>(v) * 19349663u);
+  return static_cast<std::uint8_t>(std::clamp(level + static_cast<double>(hsh % 7u) - 3.0, 0.0, 255.0));
+}
+
+// Brick courses (a bright mortar row every `period` rows over a grey of 100) in columns [0, brick_to),
+// a plain wall (grey 130) beyond; both with noise. All eight 8-column bands of a full brick view are
+// lined, half of them with brick on the left half, none on a plain wall.
+TEST(VisualSonar, BrickCoursesAreWallLinesAndPlainViewsAreNot) {
+  const CameraModel cam = SonarCamera();
+  VisualSonar sonar(cam);
+  auto brick = [](int brick_to, int period) {
+    Image im;
+    for (int u = 0; u < im.w; ++u)
+      for (int v = 0; v < im.h; ++v)
+        im.At(u, v) = u < brick_to ? Noisy(v % period == 0 ? 118.0 : 100.0, u, v) : Noisy(130.0, u, v);
+    return im;
+  };
+  for (const int period : {4, 7, 11}) {
+    sonar.Process(brick(64, period).View());
+    EXPECT_DOUBLE_EQ(sonar.WallLineFraction(), 1.0) << period;
+    sonar.Process(brick(32, period).View());
+    EXPECT_DOUBLE_EQ(sonar.WallLineFraction(), 0.5) << period;
+  }
+  sonar.Process(brick(0, 7).View());
+  EXPECT_DOUBLE_EQ(sonar.WallLineFraction(), 0.0);
+  // Mortar too faint (a 2-level line under the noise spread's floor): not lined.
+  Image faint;
+  for (int u = 0; u < faint.w; ++u)
+    for (int v = 0; v < faint.h; ++v) faint.At(u, v) = static_cast<std::uint8_t>(v % 7 == 0 ? 102 : 100);
+  sonar.Process(faint.View());
+  EXPECT_DOUBLE_EQ(sonar.WallLineFraction(), 0.0);
+}
+
+// A corridor view (floor brightening smoothly toward the bottom, a wall above its boundary) and a
+// single seam across a wall (one line, no period) have no wall lines.
+TEST(VisualSonar, FloorGradientAndASingleSeamAreNotWallLines) {
+  const CameraModel cam = SonarCamera();
+  VisualSonar sonar(cam);
+  Image corridor;
+  for (int u = 0; u < corridor.w; ++u)
+    for (int v = 0; v < corridor.h; ++v) corridor.At(u, v) = v > 26 ? Noisy(120.0 + 3.0 * (v - 26), u, v) : Noisy(80.0, u, v);
+  sonar.Process(corridor.View());
+  EXPECT_DOUBLE_EQ(sonar.WallLineFraction(), 0.0);
+  Image seam;
+  for (int u = 0; u < seam.w; ++u)
+    for (int v = 0; v < seam.h; ++v) seam.At(u, v) = Noisy(v == 30 ? 125.0 : 100.0, u, v);
+  sonar.Process(seam.View());
+  EXPECT_DOUBLE_EQ(sonar.WallLineFraction(), 0.0);
+}
+
+TEST(VisualSonar, WallLineOptionsAreValidated) {
+  VisualSonarOptions o;
+  o.wall_line_min_correlation = 0.0;
+  EXPECT_NE(o.Validate().find("wall_line_min_correlation"), std::string::npos);
+  o = {};
+  o.wall_line_max_lag = 2;
+  EXPECT_NE(o.Validate().find("wall_line"), std::string::npos);
+  o = {};
+  o.wall_line_band_columns = 1;
+  EXPECT_NE(o.Validate().find("wall_line_band_columns"), std::string::npos);
+}
+
 TEST(VisualSonar, BadInputIsAClearError) {
   const CameraModel cam = SonarCamera();
   VisualSonarOptions bad;

@@ -140,6 +140,11 @@ struct ExplorerOptions {
   // Off (0) by default: 2.7 gives the seeded starts 115/120 instead of 114 (corridor-6 10/10), but
   // default's 45-minute coverage 0.85 instead of 1.00 on seed 1 (docs/explore.md, session 6).
   double blind_view_carried_min_nats = 0.0;
+  // A blind view whose sonar frame shows periodic horizontal lines in at least this fraction of
+  // its column bands (Percept::sonar_wall_lines: a brick wall's mortar, which keeps the glance
+  // entropy at corridor level) reads as a wall whatever its entropy, while following (turning in
+  // place keeps the entropy rule). 0 turns it off.
+  double blind_view_max_wall_lines = 0.375;
   // Side branches met while following (a T met from its bar), from the sonar's memory: a side
   // wall seen abeam (within side_window_m along the axis, side_wall_max_lateral_m across) over
   // branch_wall_before_m of travel, then no wall abeam, is an opening; its far edge is the

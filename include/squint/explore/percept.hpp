@@ -39,6 +39,7 @@ struct Percept {
   // camera frame), when one was taken (a sub-rate); valid during Step() only.
   const std::vector<SonarColumn>* sonar = nullptr;
   double sonar_near_blind_m = 0.0;  // the sonar's blind range (nothing nearer is seen)
+  double sonar_wall_lines = 0.0;    // the sonar frame's fraction of bands with periodic horizontal lines (brick)
 };
 
 // Unicycle velocity command.

@@ -50,6 +50,19 @@ struct VisualSonarOptions {
   // Only steps at least this far (metres) may be floor edges: nearer, a wall misread would be hit
   // before the robot sees it again (corridor-7's walls, lit in pools, near the floor's grey).
   double floor_edge_min_range_m = 1.8;
+  // Wall lines (a brick wall's mortar): the frame is cut into bands of wall_line_band_columns
+  // columns; in each, the rows' mean grey minus its running mean over 2 x wall_line_detrend_rows + 1
+  // rows is a line profile. A band is lined when that profile's spread is at least
+  // wall_line_min_std grey levels and its normalised autocorrelation reaches
+  // wall_line_min_correlation at some lag in [wall_line_min_lag, wall_line_max_lag] rows
+  // (horizontal lines repeating down the frame: courses of bricks; a floor seen in perspective or a
+  // plain wall has no such period). WallLineFraction() is the fraction of lined bands.
+  int wall_line_band_columns = 8;
+  int wall_line_detrend_rows = 3;
+  double wall_line_min_std = 2.0;
+  double wall_line_min_correlation = 0.5;
+  int wall_line_min_lag = 3;
+  int wall_line_max_lag = 14;
   std::string Validate() const;  // empty when valid
 };
 
@@ -87,11 +100,15 @@ class VisualSonar {
   double NearBlindRangeM() const { return near_blind_m_; }
   // Floor range and bearing of the boundary between rows v and v + 1 in column u.
   double RangeAt(int u, int v) const { return range_[static_cast<std::size_t>(v * camera_.width + u)]; }
+  // Fraction of the last frame's column bands showing periodic horizontal lines (see the
+  // wall_line_* options): near 1 for a brick wall filling the view.
+  double WallLineFraction() const { return wall_line_fraction_; }
 
  private:
   // The lowest row above `base` where something other than the region starting at `base` begins
   // (the step test of Process), or -1 when none below top_row_.
   int FindStep(int base) const;
+  void MeasureWallLines(GrayView image);
 
   CameraModel camera_;
   VisualSonarOptions options_;
@@ -110,6 +127,9 @@ class VisualSonar {
   std::vector<std::uint8_t> unknown_;
   std::vector<double> edge_;       // per column: floor-edge range crossed (0: none)
   int reference_floor_rows_ = 5;
+  std::vector<double> band_rows_;   // one band's row means
+  std::vector<double> line_;        // one band's detrended line profile
+  double wall_line_fraction_ = 0.0;
 };
 
 }  // namespace squint::explore
