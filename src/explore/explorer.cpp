@@ -86,6 +86,7 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(trust_memory_after_m)) return "trust_memory_after_m must be >= 0";
   if (!(trust_memory_max_turn_deg >= 0.0 && trust_memory_max_turn_deg <= 180.0))
     return "trust_memory_max_turn_deg must be in [0, 180]";
+  if (!(trust_memory_max_wall_lines >= 0.0 && trust_memory_max_wall_lines <= 1.0)) return "trust_memory_max_wall_lines must be in [0, 1]";
   if (!(blind_view_fraction > 0.0 && blind_view_fraction <= 1.0)) return "blind_view_fraction must be in (0, 1]";
   if (!NonNegative(blind_view_entropy_ratio)) return "blind_view_entropy_ratio must be >= 0";
   if (!(blind_view_lift_ratio >= blind_view_entropy_ratio && std::isfinite(blind_view_lift_ratio)))
@@ -207,6 +208,7 @@ void Explorer::UpdateSonar(const Percept& p) {
   memory_.Gather(p.odom_T_robot, p.stamp_s);
   sonar_seen_ = true;
   last_scan_yaw_ = p.odom_T_robot.yaw;
+  last_wall_lines_ = p.sonar_wall_lines;
 }
 
 bool Explorer::UseBlocked(double yaw) const {
@@ -222,7 +224,8 @@ double Explorer::Free(const Percept& p, double yaw, double max_m) const {
   const bool use_blocked = UseBlocked(yaw);
   // Where the floor there was seen they are ignored, unless the robot turned since (it was seen
   // from the side, not from behind).
-  const bool straight = opt_.trust_memory_max_turn_deg <= 0.0 || straight_travel_m_ >= opt_.trust_memory_after_m;
+  const bool straight = (opt_.trust_memory_max_turn_deg <= 0.0 || straight_travel_m_ >= opt_.trust_memory_after_m) &&
+                        !(opt_.trust_memory_max_wall_lines > 0.0 && last_wall_lines_ >= opt_.trust_memory_max_wall_lines);
   return memory_.FreeTravel(p.odom_T_robot, yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m, use_blocked,
                             straight);
 }

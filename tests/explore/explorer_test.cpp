@@ -475,6 +475,38 @@ TEST(Explorer, BlockedNearAfterATurnCountsDespiteFloorSeenFromBehind) {
   }
 }
 
+// The same straight run without a turn: the blocked-near columns ahead are ignored where the floor
+// was seen from behind, unless the latest scan's frame shows wall lines (a brick wall ahead:
+// trust_memory_max_wall_lines 0.375; 0.75 of the bands lined stops the robot, 0.25 does not).
+TEST(Explorer, BlockedNearWithWallLinesCountsDespiteFloorSeenFromBehind) {
+  struct Case {
+    double lines;
+    double max_lines;
+    bool drives;
+  };
+  for (const Case k : {Case{0.75, 0.375, false}, Case{0.25, 0.375, true}, Case{0.75, 0.0, true}}) {
+    ExplorerOptions o;
+    o.trust_memory_max_wall_lines = k.max_lines;
+    o.detect_branches = false;
+    Explorer e(o);
+    ScriptedSonar w;
+    ASSERT_TRUE(w.UntilFollowing(e));
+    while (w.pose.x < 2.5) w.Step(e);  // the floor seen far ahead
+    ASSERT_EQ(e.State(), ExploreState::kFollow);
+    w.column = [](double b) { return std::abs(b) < DegToRad(10.0) ? SonarReturn::kBlockedNear : SonarReturn::kFar; };
+    w.wall_lines = k.lines;
+    while (w.frame % 3 != 0) w.Step(e, false);
+    double v = 0.0;
+    for (int i = 0; i < 3; ++i) v = std::max(v, w.Step(e, false).v_mps);
+    EXPECT_EQ(e.State(), ExploreState::kFollow) << k.lines << " " << k.max_lines;
+    if (k.drives) {
+      EXPECT_GT(v, 0.1) << k.lines << " " << k.max_lines;
+    } else {
+      EXPECT_EQ(v, 0.0) << k.lines << " " << k.max_lines;
+    }
+  }
+}
+
 // Views with blocked near across them and the glance entropy hovering at the blind-view threshold:
 // after one read as a wall, a blind view needs blind_view_lift_ratio x the reference, until a
 // view with floor in it is seen. Reference 3.3 nats: threshold 0.85 x 3.3 = 2.805, lift 0.90 x 3.3
@@ -589,6 +621,9 @@ TEST(Explorer, OptionsValidateNamesTheField) {
   o = {};
   o.blind_view_max_wall_lines = 1.5;
   EXPECT_NE(o.Validate().find("blind_view_max_wall_lines"), std::string::npos);
+  o = {};
+  o.trust_memory_max_wall_lines = -0.1;
+  EXPECT_NE(o.Validate().find("trust_memory_max_wall_lines"), std::string::npos);
 }
 
 }  // namespace

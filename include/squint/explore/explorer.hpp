@@ -114,6 +114,12 @@ struct ExplorerOptions {
   // corridor-9's starts 2, 4 and 5 replay without collision, but the seeded starts as a whole do
   // not improve (docs/explore.md, session 6).
   double trust_memory_max_turn_deg = 0.0;
+  // Nor when the latest scan's frame shows wall lines (VisualSonar::WallLineFraction, brick
+  // mortar) in at least this fraction of its bands: a brick wall ahead, whose base the sonar may
+  // have read as floor from farther back. 0 turns it off. Off by default: 0.375 and 0.625 fix
+  // corridor-9 start 2 but cost corridor-1 start 7 or corridor-9 start 7 (116/120 either way;
+  // docs/explore.md, session 6).
+  double trust_memory_max_wall_lines = 0.0;
   // A sonar view whose columns are nearly all blocked near (at least blind_view_fraction) is either
   // a wall filling the view or a floor without any contrast to the walls (default's carpeted
   // middle corridor, corridor-2). The glance tells them apart: looking down a corridor its entropy
@@ -348,6 +354,7 @@ class Explorer {
   bool wall_view_ = false;  // the latest view with blocked near across it was read as a wall (blind_view_lift_ratio)
   bool sonar_seen_ = false;
   double last_scan_yaw_ = 0.0;
+  double last_wall_lines_ = 0.0;  // the latest scan's Percept::sonar_wall_lines
   long speed_limited_ = 0;
   bool rescan_ = false;  // the scan under way is a recovery (keeps the map frame)
 
