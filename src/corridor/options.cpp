@@ -1,6 +1,7 @@
 // Validation of the corridor options and the cue names shared by CSV columns and YAML keys.
 #include "squint/corridor/options.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -112,6 +113,12 @@ std::string HeadingOptions::Validate() const {
   std::string s = e.str();
   if (s.size() >= 2) s.resize(s.size() - 2);
   return s;
+}
+
+double DistanceOptions::FusionWeight(int cue, double dist_m) const {
+  const auto c = static_cast<std::size_t>(cue);
+  const double g = 1.0 + error_growth_per_m[c] * std::max(0.0, dist_m);
+  return weights[c] / (g * g);
 }
 
 std::string DistanceOptions::Validate() const {

@@ -462,8 +462,7 @@ void Perceiver::Fuse(PerceptionResult& result) const {
   for (int i = 0; i < kDistanceCueCount; ++i) {
     DistanceMeasureResult& d = result.distance[i];
     if (!d.dist_m || !options_.distance.fuse[i]) continue;
-    const double g = 1.0 + options_.distance.error_growth_per_m[i] * std::max(0.0, *d.dist_m);
-    const double w = options_.distance.weights[i] / (g * g);
+    const double w = options_.distance.FusionWeight(i, *d.dist_m);
     sw += w;
     swd += w * *d.dist_m;
     d.fused = true;

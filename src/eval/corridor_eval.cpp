@@ -259,9 +259,9 @@ CorridorRun RunCorridorSequence(const io::Sequence& sequence, const CorridorRunO
       f.dist_filtered_raw[c] = d.filtered_input;
       f.dist_filtered_m[c] = d.dist_m;
       if (d.instant_m && dopt.fuse[c]) {
-        const double g = 1.0 + dopt.error_growth_per_m[c] * std::max(0.0, *d.instant_m);
-        sw += dopt.weights[c] / (g * g);
-        swd += dopt.weights[c] / (g * g) * *d.instant_m;
+        const double w = dopt.FusionWeight(c, *d.instant_m);
+        sw += w;
+        swd += w * *d.instant_m;
       }
     }
     if (sw > 0.0) f.instant_dist_m = swd / sw;
@@ -386,8 +386,7 @@ std::optional<FusedSample> FuseFrame(const CorridorFrame& f, const corridor::Dis
     if (!(mask & (1u << c)) || !f.dist_filtered_raw[c]) continue;
     const std::optional<double> est = m[c]->Distance(*f.dist_filtered_raw[c]);
     if (!est) continue;
-    const double g = 1.0 + d.error_growth_per_m[c] * std::max(0.0, *est);
-    const double w = d.weights[c] / (g * g);
+    const double w = d.FusionWeight(c, *est);
     sw += w;
     swd += w * *est;
   }
@@ -413,33 +412,39 @@ void ChooseDistanceFusion(const std::vector<CorridorRun>& runs, const CalibrateO
           *f.gt.dist_end_m <= std::min(options.distance.max_truth_m, options.fusion_max_truth_m))
         frames.push_back(&f);
   if (frames.empty()) return;
-  unsigned available = 0;
-  for (int c = 0; c < kDistanceCueCount; ++c)
-    if (d.enabled[c] && d.weights[c] > 0.0 && d.fuse[c]) available |= 1u << c;
+  // The cues that enter the fusion now (enabled, weighted, fuse on), as a mask.
+  const auto fused_cues = [&d] {
+    unsigned mask = 0;
+    for (int c = 0; c < kDistanceCueCount; ++c)
+      if (d.enabled[c] && d.weights[c] > 0.0 && d.fuse[c]) mask |= 1u << c;
+    return mask;
+  };
+  const unsigned available = fused_cues();
   if (options.select_distance_cues && available != 0) {
     // The non-empty subset of the available cues whose fusion has the lowest RMSE over the frames
     // where it answers; a subset answering on fewer frames than the best coverage of any subset
     // (less 5 %) is not considered. Ties: the larger subset (the lower mask on equal size).
+    // One pass per subset: its frames answered and squared error.
+    constexpr unsigned kSubsets = 1u << kDistanceCueCount;
+    std::array<std::size_t, kSubsets> answered{};
+    std::array<double, kSubsets> sq_error{};
     std::size_t best_cover = 0;
-    for (unsigned mask = 1; mask < (1u << kDistanceCueCount); ++mask) {
+    for (unsigned mask = 1; mask < kSubsets; ++mask) {
       if ((mask & ~available) != 0) continue;
-      std::size_t n = 0;
-      for (const CorridorFrame* f : frames) n += FuseFrame(*f, d, m, mask).has_value();
-      best_cover = std::max(best_cover, n);
+      for (const CorridorFrame* f : frames)
+        if (const auto e = FuseFrame(*f, d, m, mask)) {
+          sq_error[mask] += (e->dist_m - *f->gt.dist_end_m) * (e->dist_m - *f->gt.dist_end_m);
+          ++answered[mask];
+        }
+      best_cover = std::max(best_cover, answered[mask]);
     }
     unsigned best = available;
     double best_rmse = HUGE_VAL;
-    for (unsigned mask = 1; mask < (1u << kDistanceCueCount); ++mask) {
+    for (unsigned mask = 1; mask < kSubsets; ++mask) {
       if ((mask & ~available) != 0) continue;
-      double s2 = 0.0;
-      std::size_t n = 0;
-      for (const CorridorFrame* f : frames)
-        if (const auto e = FuseFrame(*f, d, m, mask)) {
-          s2 += (e->dist_m - *f->gt.dist_end_m) * (e->dist_m - *f->gt.dist_end_m);
-          ++n;
-        }
+      const std::size_t n = answered[mask];
       if (n == 0 || static_cast<double>(n) < 0.95 * static_cast<double>(best_cover)) continue;
-      const double rmse = std::sqrt(s2 / static_cast<double>(n));
+      const double rmse = std::sqrt(sq_error[mask] / static_cast<double>(n));
       const bool better = rmse < best_rmse - 1e-12 ||
                           (std::abs(rmse - best_rmse) <= 1e-12 && std::popcount(mask) > std::popcount(best));
       if (better) best_rmse = rmse, best = mask;
@@ -457,9 +462,7 @@ void ChooseDistanceFusion(const std::vector<CorridorRun>& runs, const CalibrateO
     for (const CorridorFrame* f : frames) sum += *f->gt.dist_end_m, sum2 += *f->gt.dist_end_m * *f->gt.dist_end_m;
     const double n = static_cast<double>(frames.size());
     const double limit = std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n)));
-    unsigned mask = 0;
-    for (int c = 0; c < kDistanceCueCount; ++c)
-      if (d.enabled[c] && d.weights[c] > 0.0 && d.fuse[c]) mask |= 1u << c;
+    const unsigned mask = fused_cues();  // after the choice above
     double s2_all = 0.0, s2_kept = 0.0;
     std::size_t n_all = 0, n_kept = 0;
     for (const CorridorFrame* f : frames)

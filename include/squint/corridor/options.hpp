@@ -273,6 +273,11 @@ struct DistanceOptions {
   // 0.65 m area-averaged). ProcessGlance() uses the glance it is given.
   bool ttc_area_glance = true;
 
+  // Fusion weight of cue `cue`'s estimate `dist_m`: weights[cue] / (1 + growth · max(0, dist_m))²
+  // (error_growth_per_m above). The Perceiver's fusion, the eval's unfiltered average and the
+  // calibration's choice of fused cues all weigh with it.
+  double FusionWeight(int cue, double dist_m) const;
+
   std::string Validate() const;
 };
 
