@@ -1819,11 +1819,12 @@ struct Renderer::Impl {
   // (key, pixel), rounded half up.
   [[gnu::always_inline]] std::uint8_t Respond(double mean, double lut_scale, bool noisy, std::uint64_t key, int u, int v) const {
     const int li = std::min(kGammaLutSize - 1, static_cast<int>(mean * lut_scale));
-    double grey = gamma_lut[std::max(0, li)];
+    const int level = gamma_lut[std::max(0, li)];
+    double grey = level;
     if (noisy) {
       const std::uint64_t h = SplitMix(key ^ (static_cast<std::uint64_t>(v) * 100003u + u));
       const int step = noise_steps[h & 0xFFFF];
-      if (step != kNoiseExact) return static_cast<std::uint8_t>(std::clamp(gamma_lut[std::max(0, li)] + step, 0, 255));
+      if (step != kNoiseExact) return static_cast<std::uint8_t>(std::clamp(level + step, 0, 255));
       grey += options.noise_sigma * normal_table[h & 0xFFFF];
     }
     return static_cast<std::uint8_t>(std::clamp(grey + 0.5, 0.0, 255.0));  // rounds half up (truncation of a non-negative value)
