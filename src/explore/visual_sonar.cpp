@@ -79,6 +79,8 @@ void VisualSonar::MeasureWallLines(GrayView image) {
   const int bw = options_.wall_line_band_columns;
   const int r = options_.wall_line_detrend_rows;
   const int n = h - 2 * r;  // rows with a full detrend window
+  wall_line_fraction_ = 0.0;
+  if (n <= options_.wall_line_min_lag + 2) return;  // too few rows for a period: no band is lined
   int bands = 0, lined = 0;
   for (int u0 = 0; u0 + bw <= w; u0 += bw) {
     ++bands;
@@ -88,7 +90,6 @@ void VisualSonar::MeasureWallLines(GrayView image) {
       for (int x = u0; x < u0 + bw; ++x) s += row[x];
       band_rows_[static_cast<std::size_t>(v)] = static_cast<double>(s) / bw;
     }
-    if (n <= options_.wall_line_min_lag + 2) continue;
     double mean = 0.0;
     for (int i = 0; i < n; ++i) {
       const int v = i + r;
