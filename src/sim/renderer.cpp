@@ -20,9 +20,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <random>
 #include <sstream>
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#define SQUINT_RENDER_SIMD 1  // AVX-512 paths, chosen at run time (Renderer::Impl::simd)
+#endif
 
 #include "squint/core/angles.hpp"
 #include "squint/core/error.hpp"
@@ -176,6 +181,12 @@ struct Renderer::Impl {
   std::vector<std::int8_t> noise_steps;
   // Adaptive supersampling (n >= 3, undistorted camera).
   bool adaptive = false;
+  // AVX-512 for the samples of several-plane pixels (the CPU has it, n * n a multiple of 8 and
+  // SQUINT_RENDER_NO_SIMD unset): the same operations in the same order on each lane, no fused
+  // multiply-adds, so the images are those of the scalar code bit for bit.
+  bool simd = false;
+  std::vector<float> sample_soa;    // per pixel: its n*n samples' ca, then sa, k, rk (the same floats)
+  std::vector<std::int32_t> sample_bin;  // per pixel: its samples' bins
   std::vector<Sample> corners;       // (width + 1) × (height + 1) rays through the pixel corners
   std::vector<Eigen::Vector3d> corner_dir;  // their robot-frame directions, unnormalised (affine in the image)
   std::vector<int> col_bin_lo, col_bin_hi;  // per pixel column: bearing bins its rays may use
@@ -275,6 +286,28 @@ struct Renderer::Impl {
     for (Sample& s : samples) bin_of(s);
     for (Sample& s : centres) bin_of(s);
     for (Sample& s : corners) bin_of(s);
+    simd = false;
+#ifdef SQUINT_RENDER_SIMD
+    {
+      const char* off = std::getenv("SQUINT_RENDER_NO_SIMD");
+      simd = adaptive && (n * n) % 8 == 0 && !(off && *off) && __builtin_cpu_supports("avx512f") &&
+             __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq");
+    }
+#endif
+    sample_soa.clear();
+    sample_bin.clear();
+    if (simd) {
+      const std::size_t nn = static_cast<std::size_t>(n) * n, np = samples.size() / nn;
+      sample_soa.resize(samples.size() * 4);
+      sample_bin.resize(samples.size());
+      for (std::size_t p = 0; p < np; ++p)
+        for (std::size_t i = 0; i < nn; ++i) {
+          const Sample& sm = samples[p * nn + i];
+          float* b = &sample_soa[p * nn * 4];
+          b[i] = sm.ca, b[nn + i] = sm.sa, b[2 * nn + i] = sm.k, b[3 * nn + i] = sm.rk;
+          sample_bin[p * nn + i] = sm.bin;
+        }
+    }
     if (adaptive) {
       const int cw = cam.width + 1;
       col_bin_lo.assign(cam.width, bins);
@@ -1434,6 +1467,170 @@ struct Renderer::Impl {
     }
   }
 
+#ifdef SQUINT_RENDER_SIMD
+  // WallDistance for eight walls (w, -1 for none) and directions, lane by lane.
+  [[gnu::target("avx512f,avx512vl,avx512dq"), gnu::always_inline]] inline __m512d WallDistance8(__m256i w, __m512d dx, __m512d dy) const {
+    static_assert(sizeof(WallFast) % sizeof(double) == 0);
+    constexpr int kWfStride = sizeof(WallFast) / sizeof(double);
+    const double* wfb = reinterpret_cast<const double*>(wall_fast.data());
+    constexpr int kOff = offsetof(WallFast, off) / 8, kSx = offsetof(WallFast, sx) / 8, kSy = offsetof(WallFast, sy) / 8,
+                  kBase = offsetof(WallFast, base) / 8, kLo = offsetof(WallFast, lo) / 8, kHi = offsetof(WallFast, hi) / 8;
+    const __m256i idx = _mm256_mullo_epi32(_mm256_add_epi32(w, _mm256_set1_epi32(1)), _mm256_set1_epi32(kWfStride));
+    const __m512d off = _mm512_i32gather_pd(idx, wfb + kOff, 8), sx = _mm512_i32gather_pd(idx, wfb + kSx, 8);
+    const __m512d syy = _mm512_i32gather_pd(idx, wfb + kSy, 8), base = _mm512_i32gather_pd(idx, wfb + kBase, 8);
+    const __m512d lo = _mm512_i32gather_pd(idx, wfb + kLo, 8), hi = _mm512_i32gather_pd(idx, wfb + kHi, 8);
+    const __m512d t = _mm512_div_pd(off, _mm512_add_pd(_mm512_mul_pd(sx, dx), _mm512_mul_pd(syy, dy)));
+    const __m512d along = _mm512_add_pd(base, _mm512_mul_pd(t, _mm512_add_pd(_mm512_mul_pd(syy, dx), _mm512_mul_pd(sx, dy))));
+    const __mmask8 ok = _mm512_cmp_pd_mask(t, _mm512_setzero_pd(), _CMP_GT_OQ) & _mm512_cmp_pd_mask(along, lo, _CMP_GE_OQ) &
+                        _mm512_cmp_pd_mask(along, hi, _CMP_LE_OQ);
+    return _mm512_mask_blend_pd(ok, _mm512_set1_pd(kInf), t);
+  }
+
+  // PixelPlanes' first two passes for pixel `pixel` (n * n a multiple of 8), eight samples per
+  // AVX-512 step: each sample's hit and slot (sdx .. sq, count) and each plain plane's sums (acc),
+  // with the scalar code's operations per lane. false: the pixel must be traced in full.
+  [[gnu::target("avx512f,avx512vl,avx512dq")]] bool PlanesSimd(std::size_t pixel, bool by_bins, int np, const std::uint32_t* keys,
+                                                              const std::uint32_t* kq, const bool* pq, double* sdx, double* sdy,
+                                                              double* sr, int* sid, Surf* ss, int* sq, int* count,
+                                                              PlainAccum* acc) const {
+    const int nn = n * n;
+    const float* soa = &sample_soa[pixel * nn * 4];
+    const std::int32_t* bins_p = &sample_bin[pixel * nn];
+    const __m512d cy = _mm512_set1_pd(cyaw), sy = _mm512_set1_pd(syaw), inf = _mm512_set1_pd(kInf), zero = _mm512_setzero_pd();
+    const __m512d ceil_rel = _mm512_set1_pd(frame_ceiling - cam_h);
+    const __m256i floor_key = _mm256_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(Surf::kFloor) << 24 | 0xFFFFFFu));
+    const __m256i ceil_key = _mm256_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(Surf::kCeiling) << 24 | 0xFFFFFFu));
+    for (int i0 = 0; i0 < nn; i0 += 8) {
+      const __m512d ca = _mm512_cvtps_pd(_mm256_loadu_ps(soa + i0)), sa = _mm512_cvtps_pd(_mm256_loadu_ps(soa + nn + i0));
+      const __m512d k = _mm512_cvtps_pd(_mm256_loadu_ps(soa + 2 * nn + i0)), rk = _mm512_cvtps_pd(_mm256_loadu_ps(soa + 3 * nn + i0));
+      const __m512d dx = _mm512_sub_pd(_mm512_mul_pd(cy, ca), _mm512_mul_pd(sy, sa));
+      const __m512d dy = _mm512_add_pd(_mm512_mul_pd(sy, ca), _mm512_mul_pd(cy, sa));
+      _mm512_storeu_pd(sdx + i0, dx);
+      _mm512_storeu_pd(sdy + i0, dy);
+      __m512d r;
+      __m256i id, key, surf;
+      __mmask8 traced = 0;  // (by_bins) a sliver wall inside the bin: trace the sample
+      if (by_bins) {
+        const __m256i bin = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(bins_p + i0));
+        const __m256i w0 = _mm256_i32gather_epi32(edge_wall.data(), bin, 4);
+        const __m256i w1 = _mm256_i32gather_epi32(edge_wall.data() + 1, bin, 4);
+        const __m512d t0 = WallDistance8(w0, dx, dy), t1 = WallDistance8(w1, dx, dy);
+        // w1 == w0 gives t1 == t0 bit for bit: the selection then keeps w0 and t0, as the scalar code does.
+        const __mmask8 first = _mm512_cmp_pd_mask(t0, t1, _CMP_LE_OQ);
+        id = _mm256_mask_blend_epi32(first, w1, w0);
+        r = _mm512_mask_blend_pd(first, t1, t0);
+        traced = _mm512_cmp_pd_mask(r, inf, _CMP_EQ_OQ);
+        const __m512d rc = _mm512_mul_pd(ceil_rel, rk);
+        const __mmask8 fl = _mm512_cmp_pd_mask(k, zero, _CMP_LT_OQ) & _mm512_cmp_pd_mask(rk, r, _CMP_LT_OQ);
+        const __mmask8 ce = static_cast<__mmask8>(~fl) & _mm512_cmp_pd_mask(k, zero, _CMP_GT_OQ) & _mm512_cmp_pd_mask(rc, r, _CMP_LT_OQ);
+        r = _mm512_mask_blend_pd(fl, r, rk);
+        r = _mm512_mask_blend_pd(ce, r, rc);
+        surf = _mm256_set1_epi32(static_cast<int>(Surf::kWall));
+        surf = _mm256_mask_blend_epi32(fl, surf, _mm256_set1_epi32(static_cast<int>(Surf::kFloor)));
+        surf = _mm256_mask_blend_epi32(ce, surf, _mm256_set1_epi32(static_cast<int>(Surf::kCeiling)));
+        key = _mm256_or_si256(_mm256_slli_epi32(_mm256_set1_epi32(static_cast<int>(Surf::kWall)), 24), id);
+        key = _mm256_mask_blend_epi32(fl, key, floor_key);
+        key = _mm256_mask_blend_epi32(ce, key, ceil_key);
+      } else {
+        r = inf;
+        key = _mm256_setzero_si256();
+        for (int q = 0; q < np; ++q) {
+          __m512d rq;
+          switch (static_cast<Surf>(keys[q] >> 24)) {
+            case Surf::kFloor: rq = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(k, zero, _CMP_LT_OQ), inf, rk); break;
+            case Surf::kCeiling: rq = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(k, zero, _CMP_GT_OQ), inf, _mm512_mul_pd(ceil_rel, rk)); break;
+            case Surf::kWall: rq = WallDistance8(_mm256_set1_epi32(static_cast<int>(keys[q] & 0xFFFFFFu)), dx, dy); break;
+            default: rq = inf; break;
+          }
+          const __mmask8 nearer = _mm512_cmp_pd_mask(rq, r, _CMP_LT_OQ);
+          r = _mm512_mask_blend_pd(nearer, r, rq);
+          key = _mm256_mask_blend_epi32(nearer, key, _mm256_set1_epi32(static_cast<int>(keys[q])));
+        }
+        if (_mm512_cmp_pd_mask(r, inf, _CMP_EQ_OQ)) return false;
+        surf = _mm256_srli_epi32(key, 24);
+        const __mmask8 wall = _mm256_cmpeq_epi32_mask(surf, _mm256_set1_epi32(static_cast<int>(Surf::kWall)));
+        id = _mm256_mask_blend_epi32(wall, _mm256_set1_epi32(-1), _mm256_and_si256(key, _mm256_set1_epi32(0xFFFFFF)));
+      }
+      if (!uniform_ceiling &&
+          (_mm256_cmpeq_epi32_mask(surf, _mm256_set1_epi32(static_cast<int>(Surf::kCeiling))) & static_cast<__mmask8>(~traced)))
+        return false;
+      __m256i q = _mm256_set1_epi32(4);
+      for (int c = 3; c >= 0; --c) q = _mm256_mask_blend_epi32(_mm256_cmpeq_epi32_mask(key, _mm256_set1_epi32(static_cast<int>(kq[c]))), q, _mm256_set1_epi32(c));
+      for (int c = 0; c < 4; ++c)
+        if (!pq[c]) q = _mm256_mask_blend_epi32(_mm256_cmpeq_epi32_mask(q, _mm256_set1_epi32(c)), q, _mm256_set1_epi32(4));
+      q = _mm256_mask_blend_epi32(traced, q, _mm256_set1_epi32(-1));
+      _mm512_storeu_pd(sr + i0, r);
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(sid + i0), id);
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(sq + i0), q);
+      _mm_storel_epi64(reinterpret_cast<__m128i*>(ss + i0), _mm256_cvtepi32_epi8(surf));
+      static_assert(sizeof(Surf) == 1);
+      for (int c = 0; c < 5; ++c) count[c] += __builtin_popcount(_mm256_cmpeq_epi32_mask(q, _mm256_set1_epi32(c)));
+      count[4] += __builtin_popcount(traced);
+    }
+    // Each plain plane's samples: light-map values lane by lane, summed in sample order.
+    double e[kMaxSamples];
+    for (int qq = 0; qq < np; ++qq) {
+      if (count[qq] == 0) continue;
+      PlainAccum& a = acc[qq];
+      const auto psurf = static_cast<Surf>(keys[qq] >> 24);
+      __m512d u_lo = inf, u_hi = _mm512_set1_pd(-kInf), v_lo = inf, v_hi = _mm512_set1_pd(-kInf);
+      const __m512d pxv = _mm512_set1_pd(px), pyv = _mm512_set1_pd(py);
+      for (int i0 = 0; i0 < nn; i0 += 8) {
+        const __mmask8 m = _mm256_cmpeq_epi32_mask(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(sq + i0)), _mm256_set1_epi32(qq));
+        if (!m) continue;
+        const __m512d r = _mm512_loadu_pd(sr + i0);
+        const __m512d x = _mm512_add_pd(pxv, _mm512_mul_pd(_mm512_loadu_pd(sdx + i0), r));
+        const __m512d y = _mm512_add_pd(pyv, _mm512_mul_pd(_mm512_loadu_pd(sdy + i0), r));
+        __m512d ev, tu, tv;
+        if (psurf == Surf::kWall) {
+          const int wid = static_cast<int>(keys[qq] & 0xFFFFFFu);
+          const WallLight& wl = wall_light[wid];
+          const __m512d k = _mm512_cvtps_pd(_mm256_loadu_ps(soa + 2 * nn + i0));
+          const __m512d z = _mm512_add_pd(_mm512_set1_pd(cam_h), _mm512_mul_pd(k, r));
+          tu = wf[wid].along_x ? x : y;
+          tv = z;
+          // WallIrradiance
+          __m512d fu = _mm512_mul_pd(_mm512_sub_pd(tu, _mm512_set1_pd(wl.lo)), _mm512_set1_pd(1.0 / kWallCell));
+          fu = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(fu, zero, _CMP_LT_OQ), fu, zero);
+          const __m512d fmax = _mm512_set1_pd(wl.fu_max);
+          fu = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(fmax, fu, _CMP_LT_OQ), fu, fmax);
+          const __m256i iu = _mm512_cvttpd_epi32(fu);
+          __m256i iz = _mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(z, _mm512_set1_pd(1.0 / kWallCell)), _mm512_set1_pd(0.5)));
+          iz = _mm256_min_epi32(_mm256_max_epi32(iz, _mm256_setzero_si256()), _mm256_set1_epi32(wl.nz - 1));
+          const __m256i cell = _mm256_add_epi32(_mm256_mullo_epi32(iz, _mm256_set1_epi32(wl.nu)), iu);
+          const __m256 c0 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), m, cell, wl.irr, 4);
+          const __m256 c1 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), m, cell, wl.irr + 1, 4);
+          ev = _mm512_add_pd(_mm512_cvtps_pd(c0), _mm512_mul_pd(_mm512_sub_pd(fu, _mm512_cvtepi32_pd(iu)), _mm512_cvtps_pd(_mm256_sub_ps(c1, c0))));
+        } else {
+          tu = x;
+          tv = y;
+          // GridIndex
+          __m256i gi = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_sub_pd(x, _mm512_set1_pd(gx0)), _mm512_set1_pd(1.0 / kCell)));
+          __m256i gj = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_sub_pd(y, _mm512_set1_pd(gy0)), _mm512_set1_pd(1.0 / kCell)));
+          gi = _mm256_min_epi32(_mm256_max_epi32(gi, _mm256_setzero_si256()), _mm256_set1_epi32(gnx - 1));
+          gj = _mm256_min_epi32(_mm256_max_epi32(gj, _mm256_setzero_si256()), _mm256_set1_epi32(gny - 1));
+          static_assert(sizeof(Cell) % sizeof(float) == 0);
+          constexpr int kCellStride = sizeof(Cell) / sizeof(float);
+          const __m256i gidx = _mm256_mullo_epi32(_mm256_add_epi32(_mm256_mullo_epi32(gj, _mm256_set1_epi32(gnx)), gi), _mm256_set1_epi32(kCellStride));
+          const __m512d irr = _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), m, gidx, &cells[0].irr, 4));
+          ev = psurf == Surf::kCeiling ? _mm512_add_pd(_mm512_set1_pd(world.ambient), _mm512_mul_pd(_mm512_set1_pd(kCeilingBounce), irr)) : irr;
+        }
+        _mm512_storeu_pd(e + i0, ev);
+        u_lo = _mm512_mask_min_pd(u_lo, m, u_lo, tu), u_hi = _mm512_mask_max_pd(u_hi, m, u_hi, tu);
+        v_lo = _mm512_mask_min_pd(v_lo, m, v_lo, tv), v_hi = _mm512_mask_max_pd(v_hi, m, v_hi, tv);
+      }
+      double e_sum = 0;
+      for (int i = 0; i < nn; ++i)
+        if (sq[i] == qq) e_sum += e[i];
+      a.e_sum = e_sum;
+      a.u_lo = _mm512_reduce_min_pd(u_lo), a.u_hi = _mm512_reduce_max_pd(u_hi);
+      a.v_lo = _mm512_reduce_min_pd(v_lo), a.v_hi = _mm512_reduce_max_pd(v_hi);
+      a.count = count[qq];
+    }
+    return true;
+  }
+#endif
+
   // Mean radiance of a pixel whose corners see several planes and no obstacle can stand in it:
   // each sample takes the nearest of the corners' planes (no tracing). Where a wall edge lies
   // in the pixel, or a wall thinner than the pixel could hide between floor and ceiling
@@ -1481,6 +1678,13 @@ struct Renderer::Impl {
     int sid[kMaxSamples], sq[kMaxSamples];
     Surf ss[kMaxSamples];
     int count[5] = {0, 0, 0, 0, 0};
+#ifdef SQUINT_RENDER_SIMD
+    if (simd) {
+      if (!PlanesSimd(static_cast<std::size_t>(s - samples.data()) / nn, by_bins, np, keys, kq, pq, sdx, sdy, sr, sid, ss, sq, count, acc))
+        return PixelTraced(s0);
+      goto shade_rest;
+    }
+#endif
     for (int i = 0; i < nn; ++i, ++s) {
       const double dx = cyaw * s->ca - syaw * s->sa, dy = syaw * s->ca + cyaw * s->sa;
       sdx[i] = dx, sdy[i] = dy;
@@ -1562,6 +1766,9 @@ struct Renderer::Impl {
       }
       a.count = count[q];
     }
+#ifdef SQUINT_RENDER_SIMD
+  shade_rest:
+#endif
     if (count[4] > 0)
       for (int i = 0; i < nn; ++i) {
         if (sq[i] == 4) {
