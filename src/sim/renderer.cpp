@@ -25,7 +25,12 @@
 #include <random>
 #include <sstream>
 #if defined(__GNUC__) && defined(__x86_64__)
+// (GCC 12 warns of the intrinsics' own undefined-register idiom, inside the header: PR 105593)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
 #include <immintrin.h>
+#pragma GCC diagnostic pop
 #define SQUINT_RENDER_SIMD 1  // AVX-512 paths, chosen at run time (Renderer::Impl::simd)
 #endif
 
@@ -187,6 +192,7 @@ struct Renderer::Impl {
   bool simd = false;
   std::vector<float> sample_soa;    // per pixel: its n*n samples' ca, then sa, k, rk (the same floats)
   std::vector<std::int32_t> sample_bin;  // per pixel: its samples' bins
+  std::vector<double> split_fx, split_fy;  // per sample of a pixel: (i + 0.5) / n, (j + 0.5) / n (PixelSplit)
   std::vector<Sample> corners;       // (width + 1) × (height + 1) rays through the pixel corners
   std::vector<Eigen::Vector3d> corner_dir;  // their robot-frame directions, unnormalised (affine in the image)
   std::vector<int> col_bin_lo, col_bin_hi;  // per pixel column: bearing bins its rays may use
@@ -307,6 +313,11 @@ struct Renderer::Impl {
           b[i] = sm.ca, b[nn + i] = sm.sa, b[2 * nn + i] = sm.k, b[3 * nn + i] = sm.rk;
           sample_bin[p * nn + i] = sm.bin;
         }
+      split_fx.resize(nn);
+      split_fy.resize(nn);
+      const double inv_n = 1.0 / n;  // as PixelSplit steps
+      for (int j = 0, k = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i, ++k) split_fx[k] = (i + 0.5) * inv_n, split_fy[k] = (j + 0.5) * inv_n;
     }
     if (adaptive) {
       const int cw = cam.width + 1;
@@ -1631,6 +1642,90 @@ struct Renderer::Impl {
   }
 #endif
 
+#ifdef SQUINT_RENDER_SIMD
+  // PixelSplit's samples, eight per AVX-512 step (n * n a multiple of 8): each sample's
+  // direction and side of the line from the corners (g, gx, gy, gz), its point on that side's
+  // plane, the light map there (summed in sample order) and the texture box. Returns how many
+  // lie on the floor or ceiling plane.
+  [[gnu::target("avx512f,avx512vl,avx512dq")]] int SplitSimd(const double* g, const double* gx, const double* gy, const double* gz,
+                                                            double h_rel, int w, bool along_x, double& pu_lo, double& pu_hi,
+                                                            double& pv_lo, double& pv_hi, double& pe, double& wu_lo,
+                                                            double& wu_hi, double& wv_lo, double& wv_hi, double& we) const {
+    const int nn = n * n;
+    const WallSegment& ws = world.walls[w];
+    const WallLight& wl = wall_light[w];
+    const double wall_c = ws.coord, wall_p = along_x ? py : px, wall_a = along_x ? px : py;
+    const __m512d zero = _mm512_setzero_pd(), inf = _mm512_set1_pd(kInf), ninf = _mm512_set1_pd(-kInf);
+    const __m512d g0 = _mm512_set1_pd(g[0]), g20 = _mm512_set1_pd(g[2] - g[0]), g1 = _mm512_set1_pd(g[1]), g31 = _mm512_set1_pd(g[3] - g[1]);
+    const __m512d x0 = _mm512_set1_pd(gx[0]), x20 = _mm512_set1_pd(gx[2] - gx[0]), x1 = _mm512_set1_pd(gx[1]), x31 = _mm512_set1_pd(gx[3] - gx[1]);
+    const __m512d y0 = _mm512_set1_pd(gy[0]), y20 = _mm512_set1_pd(gy[2] - gy[0]), y1 = _mm512_set1_pd(gy[1]), y31 = _mm512_set1_pd(gy[3] - gy[1]);
+    const __m512d z0 = _mm512_set1_pd(gz[0]), z20 = _mm512_set1_pd(gz[2] - gz[0]), z1 = _mm512_set1_pd(gz[1]), z31 = _mm512_set1_pd(gz[3] - gz[1]);
+    const __m512d hv = _mm512_set1_pd(h_rel), pxv = _mm512_set1_pd(px), pyv = _mm512_set1_pd(py), camz = _mm512_set1_pd(cam_h);
+    const __m512d wcp = _mm512_set1_pd(wall_c - wall_p), wav = _mm512_set1_pd(wall_a);
+    const __m512d gxv = _mm512_set1_pd(gx0), gyv = _mm512_set1_pd(gy0), cell_s = _mm512_set1_pd(1.0 / kCell);
+    const __m512d wlo = _mm512_set1_pd(wl.lo), wall_s = _mm512_set1_pd(1.0 / kWallCell), fmax = _mm512_set1_pd(wl.fu_max);
+    __m512d pul = inf, puh = ninf, pvl = inf, pvh = ninf, wul = inf, wuh = ninf, wvl = inf, wvh = ninf;
+    double pev[kMaxSamples], wev[kMaxSamples];
+    std::uint32_t on_bits[kMaxSamples / 8];
+    int on_plane = 0;
+    constexpr int kCellStride = sizeof(Cell) / sizeof(float);
+    for (int i0 = 0; i0 < nn; i0 += 8) {
+      const __m512d fx = _mm512_loadu_pd(&split_fx[i0]), fy = _mm512_loadu_pd(&split_fy[i0]);
+      // Per row (fy) the left and right ends, then along the row (fx), as the scalar loop steps.
+      const __m512d g_l = _mm512_add_pd(g0, _mm512_mul_pd(fy, g20)), g_r = _mm512_add_pd(g1, _mm512_mul_pd(fy, g31));
+      const __m512d x_l = _mm512_add_pd(x0, _mm512_mul_pd(fy, x20)), x_r = _mm512_add_pd(x1, _mm512_mul_pd(fy, x31));
+      const __m512d y_l = _mm512_add_pd(y0, _mm512_mul_pd(fy, y20)), y_r = _mm512_add_pd(y1, _mm512_mul_pd(fy, y31));
+      const __m512d z_l = _mm512_add_pd(z0, _mm512_mul_pd(fy, z20)), z_r = _mm512_add_pd(z1, _mm512_mul_pd(fy, z31));
+      const __m512d sdx = _mm512_add_pd(x_l, _mm512_mul_pd(fx, _mm512_sub_pd(x_r, x_l)));
+      const __m512d sdy = _mm512_add_pd(y_l, _mm512_mul_pd(fx, _mm512_sub_pd(y_r, y_l)));
+      const __m512d sdz = _mm512_add_pd(z_l, _mm512_mul_pd(fx, _mm512_sub_pd(z_r, z_l)));
+      const __mmask8 on = _mm512_cmp_pd_mask(_mm512_add_pd(g_l, _mm512_mul_pd(fx, _mm512_sub_pd(g_r, g_l))), zero, _CMP_GT_OQ);
+      const __mmask8 off = static_cast<__mmask8>(~on);
+      on_bits[i0 / 8] = on;
+      on_plane += __builtin_popcount(on);
+      if (on) {  // the floor or ceiling plane
+        const __m512d t = _mm512_div_pd(hv, sdz);
+        const __m512d x = _mm512_add_pd(pxv, _mm512_mul_pd(t, sdx)), y = _mm512_add_pd(pyv, _mm512_mul_pd(t, sdy));
+        pul = _mm512_mask_min_pd(pul, on, pul, x), puh = _mm512_mask_max_pd(puh, on, puh, x);
+        pvl = _mm512_mask_min_pd(pvl, on, pvl, y), pvh = _mm512_mask_max_pd(pvh, on, pvh, y);
+        __m256i gi = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_sub_pd(x, gxv), cell_s));
+        __m256i gj = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_sub_pd(y, gyv), cell_s));
+        gi = _mm256_min_epi32(_mm256_max_epi32(gi, _mm256_setzero_si256()), _mm256_set1_epi32(gnx - 1));
+        gj = _mm256_min_epi32(_mm256_max_epi32(gj, _mm256_setzero_si256()), _mm256_set1_epi32(gny - 1));
+        const __m256i gidx = _mm256_mullo_epi32(_mm256_add_epi32(_mm256_mullo_epi32(gj, _mm256_set1_epi32(gnx)), gi), _mm256_set1_epi32(kCellStride));
+        _mm512_storeu_pd(pev + i0, _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), on, gidx, &cells[0].irr, 4)));
+      }
+      if (off) {  // the wall
+        const __m512d across = along_x ? sdy : sdx, other = along_x ? sdx : sdy;
+        const __m512d t = _mm512_div_pd(wcp, across);
+        const __m512d along = _mm512_add_pd(wav, _mm512_mul_pd(t, other)), z = _mm512_add_pd(camz, _mm512_mul_pd(t, sdz));
+        wul = _mm512_mask_min_pd(wul, off, wul, along), wuh = _mm512_mask_max_pd(wuh, off, wuh, along);
+        wvl = _mm512_mask_min_pd(wvl, off, wvl, z), wvh = _mm512_mask_max_pd(wvh, off, wvh, z);
+        __m512d fu = _mm512_mul_pd(_mm512_sub_pd(along, wlo), wall_s);
+        fu = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(fu, zero, _CMP_LT_OQ), fu, zero);
+        fu = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(fmax, fu, _CMP_LT_OQ), fu, fmax);
+        const __m256i iu = _mm512_cvttpd_epi32(fu);
+        __m256i iz = _mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(z, wall_s), _mm512_set1_pd(0.5)));
+        iz = _mm256_min_epi32(_mm256_max_epi32(iz, _mm256_setzero_si256()), _mm256_set1_epi32(wl.nz - 1));
+        const __m256i cell = _mm256_add_epi32(_mm256_mullo_epi32(iz, _mm256_set1_epi32(wl.nu)), iu);
+        const __m256 c0 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), off, cell, wl.irr, 4);
+        const __m256 c1 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), off, cell, wl.irr + 1, 4);
+        _mm512_storeu_pd(wev + i0, _mm512_add_pd(_mm512_cvtps_pd(c0), _mm512_mul_pd(_mm512_sub_pd(fu, _mm512_cvtepi32_pd(iu)),
+                                                                                  _mm512_cvtps_pd(_mm256_sub_ps(c1, c0)))));
+      }
+    }
+    double pe_sum = 0, we_sum = 0;
+    for (int i = 0; i < nn; ++i) {
+      if (on_bits[i / 8] >> (i % 8) & 1) pe_sum += pev[i];
+      else we_sum += wev[i];
+    }
+    pe = pe_sum, we = we_sum;
+    pu_lo = _mm512_reduce_min_pd(pul), pu_hi = _mm512_reduce_max_pd(puh), pv_lo = _mm512_reduce_min_pd(pvl), pv_hi = _mm512_reduce_max_pd(pvh);
+    wu_lo = _mm512_reduce_min_pd(wul), wu_hi = _mm512_reduce_max_pd(wuh), wv_lo = _mm512_reduce_min_pd(wvl), wv_hi = _mm512_reduce_max_pd(wvh);
+    return on_plane;
+  }
+#endif
+
   // Mean radiance of a pixel whose corners see several planes and no obstacle can stand in it:
   // each sample takes the nearest of the corners' planes (no tracing). Where a wall edge lies
   // in the pixel, or a wall thinner than the pixel could hide between floor and ceiling
@@ -1824,9 +1919,16 @@ struct Renderer::Impl {
     const double inv_n = 1.0 / n;
     // First every sample's direction and side, then each side's samples in a loop of its own
     // (no branch per sample: the light-map reads of several samples overlap).
+    int on_plane = 0;
+#ifdef SQUINT_RENDER_SIMD
+    if (simd) {
+      on_plane = SplitSimd(g, gx, gy, gz, h_rel, w, ws.along_x, pu_lo, pu_hi, pv_lo, pv_hi, pe, wu_lo, wu_hi, wv_lo, wv_hi, we);
+    } else
+#endif
+    {
     double sdx[kMaxSamples], sdy[kMaxSamples], sdz[kMaxSamples];
     int on_list[kMaxSamples], off_list[kMaxSamples];
-    int on_plane = 0, off_plane = 0;
+    int off_plane = 0;
     for (int j = 0, k = 0; j < n; ++j) {
       const double fy = (j + 0.5) * inv_n;
       const double g_l = g[0] + fy * (g[2] - g[0]), g_r = g[1] + fy * (g[3] - g[1]);
@@ -1855,6 +1957,7 @@ struct Renderer::Impl {
       const double along = wall_a + t * other[k], z = cam_h + t * sdz[k];
       wu_lo = std::min(wu_lo, along), wu_hi = std::max(wu_hi, along), wv_lo = std::min(wv_lo, z), wv_hi = std::max(wv_hi, z);
       we += WallIrradiance(w, along, z);
+    }
     }
     const int pn = on_plane, wn = nn - on_plane;
     double sum = 0;
