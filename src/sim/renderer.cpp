@@ -192,7 +192,12 @@ struct Renderer::Impl {
   bool simd = false;
   std::vector<float> sample_soa;    // per pixel: its n*n samples' ca, then sa, k, rk (the same floats)
   std::vector<std::int32_t> sample_bin;  // per pixel: its samples' bins
-  std::vector<double> split_fx, split_fy;  // per sample of a pixel: (i + 0.5) / n, (j + 0.5) / n (PixelSplit)
+  std::vector<double> split_fx, split_fy;
+  struct TexelsFast {  // per material, for PixelOnPlane's gathers (texels padded by 4 bytes)
+    const std::uint8_t* texels;
+    float inv_texel_m, gain;
+  };
+  std::vector<TexelsFast> texels_fast;  // per sample of a pixel: (i + 0.5) / n, (j + 0.5) / n (PixelSplit)
   std::vector<Sample> corners;       // (width + 1) × (height + 1) rays through the pixel corners
   std::vector<Eigen::Vector3d> corner_dir;  // their robot-frame directions, unnormalised (affine in the image)
   std::vector<int> col_bin_lo, col_bin_hi;  // per pixel column: bearing bins its rays may use
@@ -379,6 +384,12 @@ struct Renderer::Impl {
     for (const Corridor& c : world.corridors) uniform_ceiling = uniform_ceiling && c.height_m == ceiling_h;
 
     BuildLightMaps();
+    texels_fast.clear();
+    if (simd)
+      for (detail::TextureTable& t : tex) {
+        t.texels.resize(static_cast<std::size_t>(detail::kTexSize) * detail::kTexSize + 4, 0);  // (32-bit gathers of the last texels)
+        texels_fast.push_back({t.texels.data(), t.inv_texel_m, t.gain});
+      }
 
     // Decals grouped by wall.
     decals = world.decals;
@@ -1221,6 +1232,27 @@ struct Renderer::Impl {
       sr[i] = r;
     }
     double sum = 0;
+#ifdef SQUINT_RENDER_SIMD
+    if (simd) {
+      double val[kMaxSamples];
+      bool done[kMaxSamples];
+      ShadeOnPlaneSimd(static_cast<std::size_t>(s - samples.data()) / nn, surf, id, sdx, sdy, sr, val, done);
+      for (int i = 0; i < nn; ++i) {
+        if (done[i]) {
+          sum += val[i];
+          continue;
+        }
+        Hit hit;
+        hit.surf = surf, hit.id = surf == Surf::kWall ? id : -1, hit.r = sr[i];
+        if (hit.r == kInf) {
+          double tx, ty;
+          hit = Trace(s[i], tx, ty);
+        }
+        sum += Shade(hit, px, py, cam_h, sdx[i], sdy[i], s[i].k, depth);
+      }
+      return sum / nn;
+    }
+#endif
     for (int i = 0; i < nn; ++i) {
       Hit hit;
       hit.surf = surf, hit.id = surf == Surf::kWall ? id : -1, hit.r = sr[i];
@@ -1723,6 +1755,135 @@ struct Renderer::Impl {
     pu_lo = _mm512_reduce_min_pd(pul), pu_hi = _mm512_reduce_max_pd(puh), pv_lo = _mm512_reduce_min_pd(pvl), pv_hi = _mm512_reduce_max_pd(pvh);
     wu_lo = _mm512_reduce_min_pd(wul), wu_hi = _mm512_reduce_max_pd(wuh), wv_lo = _mm512_reduce_min_pd(wvl), wv_hi = _mm512_reduce_max_pd(wvh);
     return on_plane;
+  }
+#endif
+
+#ifdef SQUINT_RENDER_SIMD
+  // PixelOnPlane's shading, eight samples per AVX-512 step, for the samples that Shade would
+  // shade without a branch of its own: on the plane (finite r), the floor outside flat items,
+  // the ceiling outside light panels, a wall that is no mirror (its decals tested in order).
+  // val[i]: Shade's radiance where done[i]; the others are left to Shade. (sdx, sdy, sr are
+  // only read: non-const so that GCC 12 does not take them for uninitialised.)
+  [[gnu::target("avx512f,avx512vl,avx512dq")]] void ShadeOnPlaneSimd(std::size_t pixel, Surf surf, int id, double* sdx,
+                                                                    double* sdy, double* sr, double* val,
+                                                                    bool* done) const {
+    const int nn = n * n;
+    const float* soa = &sample_soa[pixel * nn * 4];
+    const __m512d inf = _mm512_set1_pd(kInf), zero = _mm512_setzero_pd();
+    const __m512d pxv = _mm512_set1_pd(px), pyv = _mm512_set1_pd(py);
+    const __m512d big = _mm512_set1_pd(16777216.0);
+    const __m256i m127 = _mm256_set1_epi32(detail::kTexSize - 1);
+    const double* mb = reinterpret_cast<const double*>(mats.data());
+    const float* tfb = reinterpret_cast<const float*>(texels_fast.data());
+    static_assert(sizeof(TexelsFast) == 16);
+    bool wall_ok = false, wall_x = true;
+    const WallLight* wl = nullptr;
+    int wall_mat = 0, d_begin = 0, d_end = 0;
+    if (surf == Surf::kWall) {
+      const WallSegment& ws = world.walls[id];
+      wall_mat = ws.material;
+      wall_x = ws.along_x;
+      wl = &wall_light[id];
+      d_begin = decal_begin[id], d_end = decal_end[id];
+      wall_ok = mats[wall_mat].mirror <= 0;
+      for (int i = d_begin; i < d_end; ++i) wall_ok = wall_ok && mats[decals[i].material].mirror <= 0;
+    }
+    constexpr int kCellStride = sizeof(Cell) / sizeof(float);
+    static_assert(sizeof(Cell) == 16 && offsetof(Cell, floor_mat) == 4 && offsetof(Cell, ceil_mat) == 6 &&
+                  offsetof(Cell, flat) == 8 && offsetof(Cell, light) == 12);
+    const int* cell_words = reinterpret_cast<const int*>(cells.data());
+    for (int i0 = 0; i0 < nn; i0 += 8) {
+      const __m512d r = _mm512_loadu_pd(sr + i0);
+      __mmask8 ok = _mm512_cmp_pd_mask(r, inf, _CMP_NEQ_UQ);
+      const __m512d dx = _mm512_loadu_pd(sdx + i0), dy = _mm512_loadu_pd(sdy + i0);
+      const __m512d x = _mm512_add_pd(pxv, _mm512_mul_pd(dx, r)), y = _mm512_add_pd(pyv, _mm512_mul_pd(dy, r));
+      __m512d res = zero;
+      if (surf == Surf::kFloor || surf == Surf::kCeiling) {
+        // GridIndex and the cell's words
+        __m256i gi = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_sub_pd(x, _mm512_set1_pd(gx0)), _mm512_set1_pd(1.0 / kCell)));
+        __m256i gj = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_sub_pd(y, _mm512_set1_pd(gy0)), _mm512_set1_pd(1.0 / kCell)));
+        gi = _mm256_min_epi32(_mm256_max_epi32(gi, _mm256_setzero_si256()), _mm256_set1_epi32(gnx - 1));
+        gj = _mm256_min_epi32(_mm256_max_epi32(gj, _mm256_setzero_si256()), _mm256_set1_epi32(gny - 1));
+        const __m256i cw4 = _mm256_mullo_epi32(_mm256_add_epi32(_mm256_mullo_epi32(gj, _mm256_set1_epi32(gnx)), gi), _mm256_set1_epi32(kCellStride));
+        const __m256 irr_f = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, cw4, &cells[0].irr, 4);
+        const __m256i mats_w = _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), ok, _mm256_add_epi32(cw4, _mm256_set1_epi32(1)), cell_words, 4);
+        __m256i mat;
+        if (surf == Surf::kFloor) {
+          const __m256i flat = _mm256_srai_epi32(_mm256_slli_epi32(_mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), ok, _mm256_add_epi32(cw4, _mm256_set1_epi32(2)), cell_words, 4), 16), 16);
+          ok &= _mm256_cmpeq_epi32_mask(flat, _mm256_set1_epi32(-1));
+          mat = _mm256_srai_epi32(_mm256_slli_epi32(mats_w, 16), 16);  // floor_mat (low half)
+        } else {
+          const __m256i light = _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), ok, _mm256_add_epi32(cw4, _mm256_set1_epi32(3)), cell_words, 4);
+          ok &= _mm256_cmplt_epi32_mask(light, _mm256_setzero_si256());
+          mat = _mm256_srai_epi32(mats_w, 16);  // ceil_mat (high half)
+        }
+        if (ok) {
+          // Tex(mat, x, y)
+          const __m256i m4 = _mm256_slli_epi32(mat, 2);
+          const __m512d inv = _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, m4, tfb + 2, 4));
+          const __m256 gain = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, m4, tfb + 3, 4);
+          const __m512i tp = _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), ok, _mm256_slli_epi32(mat, 1), texels_fast.data(), 8);
+          const __m256i iu = _mm256_and_si256(_mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(x, inv), big)), m127);
+          const __m256i iv = _mm256_and_si256(_mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(y, inv), big)), m127);
+          const __m512i addr = _mm512_add_epi64(tp, _mm512_cvtepi32_epi64(_mm256_add_epi32(_mm256_slli_epi32(iv, 7), iu)));
+          const __m256i texel = _mm256_and_si256(_mm512_mask_i64gather_epi32(_mm256_setzero_si256(), ok, addr, nullptr, 1), _mm256_set1_epi32(0xFF));
+          const __m512d texv = _mm512_cvtps_pd(_mm256_mul_ps(_mm256_cvtepi32_ps(texel), gain));
+          const __m256i m3 = _mm256_mullo_epi32(mat, _mm256_set1_epi32(3));
+          const __m512d albedo = _mm512_mask_i32gather_pd(zero, ok, m3, mb + offsetof(MatFast, albedo) / 8, 8);
+          const __m512d emission = _mm512_mask_i32gather_pd(zero, ok, m3, mb + offsetof(MatFast, emission) / 8, 8);
+          const __m512d irr = _mm512_cvtps_pd(irr_f);
+          const __m512d e = surf == Surf::kFloor ? irr : _mm512_add_pd(_mm512_set1_pd(world.ambient), _mm512_mul_pd(_mm512_set1_pd(kCeilingBounce), irr));
+          res = _mm512_add_pd(_mm512_mul_pd(_mm512_mul_pd(albedo, texv), e), emission);
+        }
+      } else if (surf == Surf::kWall && wall_ok) {
+        const __m512d k = _mm512_cvtps_pd(_mm256_loadu_ps(soa + 2 * nn + i0));
+        const __m512d along = wall_x ? x : y;
+        const __m512d z = _mm512_add_pd(_mm512_set1_pd(cam_h), _mm512_mul_pd(k, r));
+        __m256i mat = _mm256_set1_epi32(wall_mat);
+        __m512d tu = along, tv = z;
+        __mmask8 free = 0xFF;
+        for (int d = d_begin; d < d_end && free; ++d) {
+          const Decal& dc = decals[d];
+          const __mmask8 in = free & _mm512_cmp_pd_mask(along, _mm512_set1_pd(dc.lo), _CMP_GE_OQ) &
+                              _mm512_cmp_pd_mask(along, _mm512_set1_pd(dc.hi), _CMP_LE_OQ) &
+                              _mm512_cmp_pd_mask(z, _mm512_set1_pd(dc.z0), _CMP_GE_OQ) & _mm512_cmp_pd_mask(z, _mm512_set1_pd(dc.z1), _CMP_LE_OQ);
+          mat = _mm256_mask_blend_epi32(in, mat, _mm256_set1_epi32(dc.material));
+          tu = _mm512_mask_blend_pd(in, tu, _mm512_sub_pd(along, _mm512_set1_pd(dc.lo)));
+          tv = _mm512_mask_blend_pd(in, tv, _mm512_sub_pd(_mm512_set1_pd(dc.z1), z));
+          free &= static_cast<__mmask8>(~in);
+        }
+        // WallIrradiance
+        __m512d fu = _mm512_mul_pd(_mm512_sub_pd(along, _mm512_set1_pd(wl->lo)), _mm512_set1_pd(1.0 / kWallCell));
+        fu = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(fu, zero, _CMP_LT_OQ), fu, zero);
+        const __m512d fmax = _mm512_set1_pd(wl->fu_max);
+        fu = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(fmax, fu, _CMP_LT_OQ), fu, fmax);
+        const __m256i wiu = _mm512_cvttpd_epi32(fu);
+        __m256i wiz = _mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(z, _mm512_set1_pd(1.0 / kWallCell)), _mm512_set1_pd(0.5)));
+        wiz = _mm256_min_epi32(_mm256_max_epi32(wiz, _mm256_setzero_si256()), _mm256_set1_epi32(wl->nz - 1));
+        const __m256i cell = _mm256_add_epi32(_mm256_mullo_epi32(wiz, _mm256_set1_epi32(wl->nu)), wiu);
+        const __m256 c0 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, cell, wl->irr, 4);
+        const __m256 c1 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, cell, wl->irr + 1, 4);
+        const __m512d e = _mm512_add_pd(_mm512_cvtps_pd(c0), _mm512_mul_pd(_mm512_sub_pd(fu, _mm512_cvtepi32_pd(wiu)), _mm512_cvtps_pd(_mm256_sub_ps(c1, c0))));
+        // Tex(mat, tu, tv)
+        const __m256i m4 = _mm256_slli_epi32(mat, 2);
+        const __m512d inv = _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, m4, tfb + 2, 4));
+        const __m256 gain = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, m4, tfb + 3, 4);
+        const __m512i tp = _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), ok, _mm256_slli_epi32(mat, 1), texels_fast.data(), 8);
+        const __m256i iu = _mm256_and_si256(_mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(tu, inv), big)), m127);
+        const __m256i iv = _mm256_and_si256(_mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(tv, inv), big)), m127);
+        const __m512i addr = _mm512_add_epi64(tp, _mm512_cvtepi32_epi64(_mm256_add_epi32(_mm256_slli_epi32(iv, 7), iu)));
+        const __m256i texel = _mm256_and_si256(_mm512_mask_i64gather_epi32(_mm256_setzero_si256(), ok, addr, nullptr, 1), _mm256_set1_epi32(0xFF));
+        const __m512d texv = _mm512_cvtps_pd(_mm256_mul_ps(_mm256_cvtepi32_ps(texel), gain));
+        const __m256i m3 = _mm256_mullo_epi32(mat, _mm256_set1_epi32(3));
+        const __m512d albedo = _mm512_mask_i32gather_pd(zero, ok, m3, mb + offsetof(MatFast, albedo) / 8, 8);
+        const __m512d emission = _mm512_mask_i32gather_pd(zero, ok, m3, mb + offsetof(MatFast, emission) / 8, 8);
+        res = _mm512_add_pd(_mm512_mul_pd(_mm512_mul_pd(albedo, texv), e), _mm512_mul_pd(emission, texv));
+      } else {
+        ok = 0;
+      }
+      _mm512_storeu_pd(val + i0, res);
+      for (int k = 0; k < 8; ++k) done[i0 + k] = ok >> k & 1;
+    }
   }
 #endif
 
