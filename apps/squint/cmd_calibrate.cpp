@@ -32,30 +32,8 @@ void Run(const CalibrateCliOptions& opt) {
   if (opt.only == "heading") fit.fit_distance = false;
   else if (opt.only == "distance") fit.fit_heading = false;
   if (const std::string bad = fit.Validate(); !bad.empty()) throw Error("calibrate: " + bad);
-  corridor::CorridorOptions base;
-  if (!opt.base.empty()) base = eval::LoadCalibrationFile(opt.base).options;
-  base = eval::CalibrationBaseOptions(base, fit);
-  // Fit from the measures' uncalibrated answers: identity scales and no bias.
-  eval::CorridorRunOptions run_opt;
-  run_opt.perception = base;
-  for (auto& c : run_opt.perception.heading.cues) {
-    c.scale = 1.0;
-    c.bias_deg = 0.0;
-    if (c.weight <= 0.0) c.weight = 1.0;
-    c.enabled = true;
-  }
-  run_opt.perception.distance.ttc_scale = 1.0;
-  run_opt.perception.distance.ttc_bias_m = 0.0;
-  for (auto& w : run_opt.perception.distance.weights)
-    if (w <= 0.0) w = 1.0;
-  run_opt.perception.distance.enabled = {true, true, true};
-  // Every estimate is wanted, also outside the usual validity ranges.
-  run_opt.perception.heading.max_abs_heading_deg = 89.0;
-  run_opt.perception.distance.min_m = 0.0;
-  run_opt.perception.distance.max_m = 1e9;
-  run_opt.perception.distance.valid_min_m = {0.0, 0.0, 0.0};
-  run_opt.perception.distance.valid_max_m = {1e9, 1e9, 1e9};
-  run_opt.gated_pass = false;
+  corridor::CorridorOptions base_in;
+  if (!opt.base.empty()) base_in = eval::LoadCalibrationFile(opt.base).options;
 
   // Read and check every input before the long part.
   std::vector<io::Sequence> seqs;
@@ -72,15 +50,71 @@ void Run(const CalibrateCliOptions& opt) {
   std::vector<const io::Sequence*> ptrs;
   for (const io::Sequence& s : seqs) ptrs.push_back(&s);
   eval::CheckCalibrationSpread(ptrs, fit.fit_heading, fit.fit_distance);
-  std::vector<eval::CorridorRun> runs;
-  ProgressBar bar("calibrate", total);
-  std::size_t done = 0;
-  for (const io::Sequence& s : seqs) {
-    runs.push_back(eval::RunCorridorSequence(s, run_opt, [&](std::size_t i) { bar.Update(done + i); }));
-    done += s.Size();
+
+  // Time to contact's image scale: each candidate is run and fitted, the one whose time-to-contact
+  // cue has the lowest RMSE on the fusion's frames is kept (only when distance is fitted and the
+  // base keeps the glance).
+  std::vector<double> candidates{fit.ttc_glance_scale};
+  if (fit.fit_distance && !fit.ttc_glance_scales.empty() && base_in.distance.ttc_glance_scale == 1.0)
+    candidates = fit.ttc_glance_scales;
+  std::optional<eval::CorridorCalibrationFile> best_file;
+  eval::CueRmse best_rmse;
+  double best_scale = 1.0;
+  for (const double scale : candidates) {
+    eval::CalibrateOptions fit_c = fit;
+    fit_c.ttc_glance_scale = scale;
+    const corridor::CorridorOptions base = eval::CalibrationBaseOptions(base_in, fit_c);
+    // Fit from the measures' uncalibrated answers: identity scales and no bias.
+    eval::CorridorRunOptions run_opt;
+    run_opt.perception = base;
+    for (auto& c : run_opt.perception.heading.cues) {
+      c.scale = 1.0;
+      c.bias_deg = 0.0;
+      if (c.weight <= 0.0) c.weight = 1.0;
+      c.enabled = true;
+    }
+    run_opt.perception.distance.ttc_scale = 1.0;
+    run_opt.perception.distance.ttc_bias_m = 0.0;
+    for (auto& w : run_opt.perception.distance.weights)
+      if (w <= 0.0) w = 1.0;
+    run_opt.perception.distance.enabled = {true, true, true};
+    // Every estimate is wanted, also outside the usual validity ranges.
+    run_opt.perception.heading.max_abs_heading_deg = 89.0;
+    run_opt.perception.distance.min_m = 0.0;
+    run_opt.perception.distance.max_m = 1e9;
+    run_opt.perception.distance.valid_min_m = {0.0, 0.0, 0.0};
+    run_opt.perception.distance.valid_max_m = {1e9, 1e9, 1e9};
+    run_opt.gated_pass = false;
+
+    std::vector<eval::CorridorRun> runs;
+    ProgressBar bar(candidates.size() > 1 ? fmt::format("calibrate (ttc scale {:g})", scale) : std::string("calibrate"),
+                    total);
+    std::size_t done = 0;
+    for (const io::Sequence& s : seqs) {
+      runs.push_back(eval::RunCorridorSequence(s, run_opt, [&](std::size_t i) { bar.Update(done + i); }));
+      done += s.Size();
+    }
+    bar.Finish();
+    eval::CorridorCalibrationFile file = eval::FitCorridorCalibration(runs, names, base, fit_c);
+    if (candidates.size() > 1) {
+      const eval::CueRmse r = eval::TtcCalibrationRmse(runs, fit_c, file);
+      std::cout << fmt::format("  ttc scale {:g} ({}x{}): time to contact rmse {:.3f} m on {} of {} frames\n", scale,
+                               std::lround(32 * scale), std::lround(24 * scale), r.rmse_m, r.answered, r.frames);
+      // Candidates answering on fewer than 95 % of the frames the best one answers on are not
+      // chosen (as for the fusion's cue subsets).
+      const bool covers = static_cast<double>(r.answered) >= 0.95 * static_cast<double>(best_rmse.answered);
+      const bool beaten_in_cover = static_cast<double>(best_rmse.answered) < 0.95 * static_cast<double>(r.answered);
+      if (!best_file || beaten_in_cover || (covers && r.rmse_m < best_rmse.rmse_m - 1e-12)) {
+        best_file = std::move(file);
+        best_rmse = r;
+        best_scale = scale;
+      }
+    } else {
+      best_file = std::move(file);
+    }
   }
-  bar.Finish();
-  const eval::CorridorCalibrationFile file = eval::FitCorridorCalibration(runs, names, base, fit);
+  const eval::CorridorCalibrationFile& file = *best_file;
+  if (candidates.size() > 1) std::cout << fmt::format("  ttc scale chosen: {:g}\n", best_scale);
   eval::SaveCalibrationFile(opt.out, file);
 
   std::cout << fmt::format("calibrated on {} sequences ({} frames) -> {}\n", seqs.size(), total, opt.out);
@@ -143,6 +177,25 @@ void Register(CLI::App& root) {
   cmd->add_option("--ttc-cell-nearest", opt->fit.ttc_cell_nearest,
                   "Only this many cells nearest the expansion centre count (0 = all)")
       ->capture_default_str();
+  CLI::Option* single_scale = cmd->add_option("--ttc-glance-scale", opt->fit.ttc_glance_scale,
+                  "Time to contact's own area-averaged image, round(32 s) x round(24 s) pixels, written to the "
+                  "options when the base keeps the glance, instead of choosing among --ttc-glance-scales (docs/calibration.md)")
+      ->capture_default_str();
+  cmd->add_option("--ttc-glance-scales", opt->fit.ttc_glance_scales,
+                  "Candidate scales for time to contact's image, each run and fitted; the one whose time-to-contact "
+                  "RMSE on the fusion's frames is lowest is written (none: --ttc-glance-scale alone)")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_flag("--ttc-glance-scale-far-only", opt->fit.ttc_glance_scale_far_only,
+                "... only far from the end (before a first estimate and while the window is at its minimum)");
+  cmd->add_option("--ttc-fine-cell-px", opt->fit.ttc_fine_cell_px,
+                  "Cells on the finer image, glance pixels (0 = --ttc-cell-px)")
+      ->capture_default_str();
+  cmd->add_option("--ttc-fine-cell-nearest", opt->fit.ttc_fine_cell_nearest,
+                  "Nearest cells that count on the finer image (0 = --ttc-cell-nearest)")
+      ->capture_default_str();
+  cmd->add_flag("--ttc-fine-contrast-scaled", opt->fit.ttc_fine_contrast_scaled,
+                "Scale time to contact's contrast threshold on the finer image by its scale");
   cmd->add_flag("--all-distance-cues{false}", opt->fit.select_distance_cues,
                 "Fuse every distance cue (default: the subset whose fused estimate has the lowest RMSE on these "
                 "sequences; the others are reported, not fused)");
@@ -155,7 +208,10 @@ void Register(CLI::App& root) {
   cmd->add_flag("--heading-weights-from-variance", opt->fit.heading_weights_from_variance,
                 "Set each heading cue's fusion weight to 1/sigma^2 of its calibrated error (the paper's rule; "
                 "default: keep the base options' weights)");
-  cmd->callback([opt] { Run(*opt); });
+  cmd->callback([opt, single_scale] {
+    if (single_scale->count() > 0) opt->fit.ttc_glance_scales.clear();  // this scale, no choice
+    Run(*opt);
+  });
 }
 
 const CommandRegistrar kRegistrar(300, &Register);

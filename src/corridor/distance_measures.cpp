@@ -8,6 +8,7 @@
 #include <cmath>
 #include <span>
 
+#include "squint/core/error.hpp"
 #include "squint/corridor/information.hpp"
 
 namespace squint::corridor {
@@ -173,7 +174,7 @@ struct ScaleWindow {
   double n, sy, syy;
 };
 
-ScaleWindow MakeWindow(const Glance& current, int u0, int u1, int v0, int v1, int step) {
+ScaleWindow MakeWindow(const TtcImage& current, int u0, int u1, int v0, int v1, int step) {
   ScaleWindow w{u0, u1, v0, v1, step, 0.0, 0.0, 0.0};
   for (int v = v0; v <= v1; v += step)
     for (int u = u0; u <= u1; u += step) {
@@ -185,27 +186,28 @@ ScaleWindow MakeWindow(const Glance& current, int u0, int u1, int v0, int v1, in
   return w;
 }
 
-NccSums SumScale(const Glance& earlier, const Glance& current, const ScaleWindow& w, double cx, double cy,
+NccSums SumScale(const TtcImage& earlier, const TtcImage& current, const ScaleWindow& w, double cx, double cy,
                  double scale) {
   const float inv = static_cast<float>(1.0 / scale);
   const float fcx = static_cast<float>(cx), fcy = static_cast<float>(cy);
+  const int iw = current.width, ih = current.height;
   // Sources lie between the centre and p, so inside the glance; clamped for the bilinear cell.
-  // The column lookup depends on the scale only: one table per call.
-  std::array<int, kW> col{};
-  std::array<float, kW> frac{};
+  // The column lookup depends on the scale only: one table per call (entries u0..u1 only).
+  std::array<int, kMaxTtcWidth> col;
+  std::array<float, kMaxTtcWidth> frac;
   for (int u = w.u0; u <= w.u1; u += w.step) {
-    const float sx = std::clamp(fcx + (static_cast<float>(u) - fcx) * inv, 0.0f, kW - 1.001f);
+    const float sx = std::clamp(fcx + (static_cast<float>(u) - fcx) * inv, 0.0f, iw - 1.001f);
     col[u] = static_cast<int>(sx);
     frac[u] = sx - static_cast<float>(col[u]);
   }
   NccSums s;
   for (int v = w.v0; v <= w.v1; v += w.step) {
-    const float sy = std::clamp(fcy + (static_cast<float>(v) - fcy) * inv, 0.0f, kH - 1.001f);
+    const float sy = std::clamp(fcy + (static_cast<float>(v) - fcy) * inv, 0.0f, ih - 1.001f);
     const int y0 = static_cast<int>(sy);
     const float fy = sy - static_cast<float>(y0);
-    const std::uint8_t* r0 = earlier.pixels.data() + y0 * kW;
-    const std::uint8_t* r1 = r0 + kW;
-    const std::uint8_t* cur = current.pixels.data() + v * kW;
+    const std::uint8_t* r0 = earlier.data + y0 * iw;
+    const std::uint8_t* r1 = r0 + iw;
+    const std::uint8_t* cur = current.data + v * iw;
     for (int u = w.u0; u <= w.u1; u += w.step) {
       const int x0 = col[u];
       const float fx = frac[u];
@@ -234,17 +236,18 @@ struct GnSums {
   double sx = 0.0, sxx = 0.0, sxy = 0.0, sg = 0.0, sgg = 0.0, sxg = 0.0, sgy = 0.0;
 };
 
-GnSums SumScaleGn(const Glance& earlier, const Glance& current, const ScaleWindow& w, double cx, double cy,
+GnSums SumScaleGn(const TtcImage& earlier, const TtcImage& current, const ScaleWindow& w, double cx, double cy,
                   double scale) {
   const float inv = static_cast<float>(1.0 / scale);
   const float dinv = static_cast<float>(-1.0 / (scale * scale));  // d(1/σ)/dσ
   const float fcx = static_cast<float>(cx), fcy = static_cast<float>(cy);
-  std::array<int, kW> col{};
-  std::array<float, kW> frac{};
-  std::array<float, kW> dcol{};  // ∂(source column)/∂σ; 0 where clamped
+  const int iw = current.width, ih = current.height;
+  std::array<int, kMaxTtcWidth> col;
+  std::array<float, kMaxTtcWidth> frac;
+  std::array<float, kMaxTtcWidth> dcol;  // ∂(source column)/∂σ; 0 where clamped
   for (int u = w.u0; u <= w.u1; u += w.step) {
     const float raw = fcx + (static_cast<float>(u) - fcx) * inv;
-    const float sx = std::clamp(raw, 0.0f, kW - 1.001f);
+    const float sx = std::clamp(raw, 0.0f, iw - 1.001f);
     col[u] = static_cast<int>(sx);
     frac[u] = sx - static_cast<float>(col[u]);
     dcol[u] = sx == raw ? (static_cast<float>(u) - fcx) * dinv : 0.0f;
@@ -252,13 +255,13 @@ GnSums SumScaleGn(const Glance& earlier, const Glance& current, const ScaleWindo
   GnSums s;
   for (int v = w.v0; v <= w.v1; v += w.step) {
     const float raw = fcy + (static_cast<float>(v) - fcy) * inv;
-    const float sy = std::clamp(raw, 0.0f, kH - 1.001f);
+    const float sy = std::clamp(raw, 0.0f, ih - 1.001f);
     const float drow = sy == raw ? (static_cast<float>(v) - fcy) * dinv : 0.0f;
     const int y0 = static_cast<int>(sy);
     const float fy = sy - static_cast<float>(y0);
-    const std::uint8_t* r0 = earlier.pixels.data() + y0 * kW;
-    const std::uint8_t* r1 = r0 + kW;
-    const std::uint8_t* cur = current.pixels.data() + v * kW;
+    const std::uint8_t* r0 = earlier.data + y0 * iw;
+    const std::uint8_t* r1 = r0 + iw;
+    const std::uint8_t* cur = current.data + v * iw;
     float sx_ = 0.0f, sxx = 0.0f, sxy = 0.0f, sg = 0.0f, sgg = 0.0f, sxg = 0.0f, sgy = 0.0f;
     for (int u = w.u0; u <= w.u1; u += w.step) {
       const int x0 = col[u];
@@ -302,7 +305,7 @@ struct GnResult {
   double se = HUGE_VAL;
 };
 
-GnResult RefineScale(const Glance& earlier, const Glance& current, const ScaleWindow& w, double cx, double cy,
+GnResult RefineScale(const TtcImage& earlier, const TtcImage& current, const ScaleWindow& w, double cx, double cy,
                      double start, double max_scale) {
   constexpr int kMaxIterations = 5;
   constexpr double kMaxStep = 0.05, kTolerance = 2e-4;
@@ -350,11 +353,12 @@ GnResult RefineScale(const Glance& earlier, const Glance& current, const ScaleWi
 struct PixelBox {
   int u0, u1, v0, v1;
 };
-std::optional<PixelBox> WindowBox(double cx, double cy, double half_width_px, double half_height_px) {
+std::optional<PixelBox> WindowBox(int iw, int ih, double cx, double cy, double half_width_px,
+                                  double half_height_px) {
   const PixelBox b{std::max(0, static_cast<int>(std::ceil(cx - half_width_px))),
-                   std::min(kW - 1, static_cast<int>(std::floor(cx + half_width_px))),
+                   std::min(iw - 1, static_cast<int>(std::floor(cx + half_width_px))),
                    std::max(0, static_cast<int>(std::ceil(cy - half_height_px))),
-                   std::min(kH - 1, static_cast<int>(std::floor(cy + half_height_px)))};
+                   std::min(ih - 1, static_cast<int>(std::floor(cy + half_height_px)))};
   if (b.u1 < b.u0 || b.v1 < b.v0) return std::nullopt;
   return b;
 }
@@ -366,11 +370,12 @@ double WindowContrast(const ScaleWindow& w) {
 
 }  // namespace
 
-std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& current, double cx, double cy,
+std::optional<ScaleMatch> ExpansionScale(const TtcImage& earlier, const TtcImage& current, double cx, double cy,
                                          double half_width_px, double half_height_px, double max_scale,
                                          std::optional<double> initial_scale, double accept_ncc) {
   if (!std::isfinite(cx) || !std::isfinite(cy) || !(max_scale > 1.0)) return std::nullopt;
-  const std::optional<PixelBox> box = WindowBox(cx, cy, half_width_px, half_height_px);
+  const std::optional<PixelBox> box =
+      WindowBox(current.width, current.height, cx, cy, half_width_px, half_height_px);
   if (!box) return std::nullopt;
   const auto [u0, u1, v0, v1] = *box;
   const ScaleWindow full = MakeWindow(current, u0, u1, v0, v1, 1);
@@ -399,12 +404,14 @@ std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& cu
   return ScaleMatch{r.scale, r.ncc, contrast, true};
 }
 
-std::optional<CellScales> CellExpansionScales(const Glance& earlier, const Glance& current, double cx, double cy,
-                                              double half_width_px, double half_height_px, double max_scale,
-                                              double start_scale, double cell_px, double min_contrast,
-                                              double min_ncc, double max_se, int max_cells) {
+std::optional<CellScales> CellExpansionScales(const TtcImage& earlier, const TtcImage& current, double cx,
+                                              double cy, double half_width_px, double half_height_px,
+                                              double max_scale, double start_scale, double cell_px,
+                                              double min_contrast, double min_ncc, double max_se,
+                                              int max_cells) {
   if (!std::isfinite(cx) || !std::isfinite(cy) || !(max_scale > 1.0) || !(cell_px >= 1.0)) return std::nullopt;
-  const std::optional<PixelBox> box = WindowBox(cx, cy, half_width_px, half_height_px);
+  const std::optional<PixelBox> box =
+      WindowBox(current.width, current.height, cx, cy, half_width_px, half_height_px);
   if (!box) return std::nullopt;
   const auto [u0, u1, v0, v1] = *box;
   // Cells of about cell_px × cell_px: as many as fit (at least one per direction), the window's
@@ -452,32 +459,53 @@ double LowerQuantile(std::span<double> values, double q) {
   return values[k];
 }
 
-void TimeToContactDistance::MeasureScale(const Glance& earlier, const Glance& current, int baseline_frames,
+void TimeToContactDistance::MeasureScale(const TtcImage& earlier, const TtcImage& current, int baseline_frames,
                                          std::optional<double> travelled_m, std::optional<double> reference_m,
                                          DistanceMeasureResult& out) const {
   Clear(out, Cue());
   out.baseline_frames = baseline_frames;
-  if (earlier.pixels == current.pixels) return SetNoEstimate(out, Reason::kIdenticalFrames);
-  const double min_w = std::min(options_.ttc_window_min_px, double{kW});
-  const double min_h = std::min(options_.ttc_window_min_height_px, double{kH});
-  double half_w = options_.ttc_whole_glance_first ? kW : min_w;
-  double half_h = options_.ttc_whole_glance_first ? kH : min_h;
-  if (reference_m && *reference_m > 0.0 && focal_px_ > 0.0) {
-    half_w = std::clamp(options_.ttc_window_half_width_m * focal_px_ / *reference_m, min_w, double{kW});
+  const std::size_t n_px = static_cast<std::size_t>(current.width) * static_cast<std::size_t>(current.height);
+  if (earlier.width == current.width && earlier.height == current.height &&
+      std::equal(earlier.data, earlier.data + n_px, current.data))
+    return SetNoEstimate(out, Reason::kIdenticalFrames);
+  if (earlier.width != current.width || earlier.height != current.height)
+    return SetNoEstimate(out, Reason::kNoPreviousFrame);
+  // The geometry in this image's pixels: the glance's (cx_, cy_, focal_px_ and the options'
+  // sizes in glance pixels) scaled by the image's size over the glance's (exactly the glance's
+  // for a 32×24 image).
+  const bool glance_size = current.width == kW && current.height == kH;
+  const double fx = glance_size ? 1.0 : static_cast<double>(current.width) / kW;
+  const double fy = glance_size ? 1.0 : static_cast<double>(current.height) / kH;
+  const double cx = glance_size ? cx_ : (cx_ + 0.5) * fx - 0.5;
+  const double cy = glance_size ? cy_ : (cy_ + 0.5) * fy - 0.5;
+  const double focal = glance_size ? focal_px_ : focal_px_ * fx;
+  const double img_w = current.width, img_h = current.height;
+  const double min_w = std::min(glance_size ? options_.ttc_window_min_px : options_.ttc_window_min_px * fx, img_w);
+  const double min_h =
+      std::min(glance_size ? options_.ttc_window_min_height_px : options_.ttc_window_min_height_px * fy, img_h);
+  double half_w = options_.ttc_whole_glance_first ? img_w : min_w;
+  double half_h = options_.ttc_whole_glance_first ? img_h : min_h;
+  if (reference_m && *reference_m > 0.0 && focal > 0.0) {
+    half_w = std::clamp(options_.ttc_window_half_width_m * focal / *reference_m, min_w, img_w);
     if (camera_height_m_ > 0.0)
-      half_h = std::clamp(options_.ttc_window_height_factor * camera_height_m_ * focal_px_ / *reference_m, min_h,
-                          double{kH});
+      half_h = std::clamp(options_.ttc_window_height_factor * camera_height_m_ * focal / *reference_m, min_h,
+                          img_h);
     else
-      half_h = std::clamp(0.75 * half_w, min_h, double{kH});
+      half_h = std::clamp(0.75 * half_w, min_h, img_h);
   }
   // Predicted magnification: a plane at the reference distance d̂ (now) seen s metres earlier
   // magnifies by (d̂ + s) / d̂.
   std::optional<double> predicted;
   if (reference_m && *reference_m > 0.0 && travelled_m && *travelled_m > 0.0)
     predicted = 1.0 + *travelled_m / *reference_m;
-  const std::optional<ScaleMatch> m = ExpansionScale(earlier, current, cx_, cy_, half_w, half_h,
+  const std::optional<ScaleMatch> m = ExpansionScale(earlier, current, cx, cy, half_w, half_h,
                                                      options_.ttc_max_scale, predicted, options_.ttc_min_ncc);
-  if (!m || m->contrast < options_.ttc_min_contrast || m->ncc < options_.ttc_min_ncc)
+  // On a finer image the noise of a pixel, a mean over fewer source pixels, is larger by the
+  // scale (ttc_fine_contrast_scaled: the threshold too).
+  const double min_contrast =
+      !glance_size && options_.ttc_fine_contrast_scaled ? options_.ttc_min_contrast * std::sqrt(fx * fy)
+                                                        : options_.ttc_min_contrast;
+  if (!m || m->contrast < min_contrast || m->ncc < options_.ttc_min_ncc)
     return SetNoEstimate(out, Reason::kZeroGradient);
   double scale = m->scale;
   if (options_.ttc_cell_px > 0.0 && m->scale - 1.0 >= options_.ttc_cell_min_expansion) {
@@ -490,16 +518,30 @@ void TimeToContactDistance::MeasureScale(const Glance& earlier, const Glance& cu
     // corridor is); with ttc_cell_nearest_at_min_window only while the window is at its minimum
     // size (far away, where it holds more than the end wall).
     const bool at_min = half_w <= min_w + 1e-9 && half_h <= min_h + 1e-9;
+    // On the finer image (ttc_glance_scale) its own cell size and count when set.
+    const int nearest = !glance_size && options_.ttc_fine_cell_nearest > 0 ? options_.ttc_fine_cell_nearest
+                                                                           : options_.ttc_cell_nearest;
     const int max_cells =
-        options_.ttc_cell_nearest > 0 && (!options_.ttc_cell_nearest_at_min_window || at_min)
-            ? options_.ttc_cell_nearest
-            : 0;
+        nearest > 0 && (!options_.ttc_cell_nearest_at_min_window || at_min) ? nearest : 0;
+    const double cell_glance_px =
+        !glance_size && options_.ttc_fine_cell_px > 0.0 ? options_.ttc_fine_cell_px : options_.ttc_cell_px;
+    const double cell_px = glance_size ? options_.ttc_cell_px : cell_glance_px * std::sqrt(fx * fy);
     std::optional<CellScales> cells = CellExpansionScales(
-        earlier, current, cx_, cy_, half_w, half_h, options_.ttc_max_scale, m->scale, options_.ttc_cell_px,
-        options_.ttc_min_contrast, options_.ttc_min_ncc, options_.ttc_cell_max_se_fraction * expected, max_cells);
-    if (cells && cells->count >= options_.ttc_cell_min_count)
-      scale = LowerQuantile(std::span<double>(cells->scale.data(), static_cast<std::size_t>(cells->count)),
-                            options_.ttc_cell_quantile);
+        earlier, current, cx, cy, half_w, half_h, options_.ttc_max_scale, m->scale, cell_px,
+        min_contrast, options_.ttc_min_ncc, options_.ttc_cell_max_se_fraction * expected, max_cells);
+    if (cells && cells->count >= options_.ttc_cell_min_count) {
+      const std::span<double> v(cells->scale.data(), static_cast<std::size_t>(cells->count));
+      scale = LowerQuantile(v, options_.ttc_cell_quantile);
+      // The cells' agreement (ttc_cell_max_spread): their interquartile range of σ over the
+      // estimate's expansion σ − 1; cells that disagree more give no reading.
+      if (options_.ttc_cell_max_spread > 0.0) {
+        const double q1 = LowerQuantile(v, 0.25), q3 = LowerQuantile(v, 0.75);
+        if (!(q3 - q1 <= options_.ttc_cell_max_spread * std::max(scale - 1.0, 1e-3))) {
+          out.raw = scale - 1.0;
+          return SetNoEstimate(out, Reason::kOutOfRange);
+        }
+      }
+    }
   }
   out.raw = scale - 1.0;
   if (!(scale > 1.0)) return SetNoEstimate(out, Reason::kNotApproaching);
@@ -523,6 +565,75 @@ void SmoothGlance(const Glance& in, Glance& out) {
     std::uint8_t* o = out.pixels.data() + v * kW;
     for (int u = 0; u < kW; ++u) o[u] = static_cast<std::uint8_t>((a[u] + 2 * b[u] + c[u] + 8) / 16);
   }
+}
+
+void SmoothTtcImage(const TtcImage& in, std::uint8_t* out) {
+  // As SmoothGlance, for any size.
+  const int w = in.width, h = in.height;
+  std::array<std::uint16_t, kMaxTtcPixels> rows;
+  for (int v = 0; v < h; ++v) {
+    const std::uint8_t* p = in.data + v * w;
+    std::uint16_t* r = rows.data() + v * w;
+    for (int u = 0; u < w; ++u) r[u] = p[std::max(u - 1, 0)] + 2 * p[u] + p[std::min(u + 1, w - 1)];
+  }
+  for (int v = 0; v < h; ++v) {
+    const std::uint16_t* a = rows.data() + std::max(v - 1, 0) * w;
+    const std::uint16_t* b = rows.data() + v * w;
+    const std::uint16_t* c = rows.data() + std::min(v + 1, h - 1) * w;
+    std::uint8_t* o = out + v * w;
+    for (int u = 0; u < w; ++u) o[u] = static_cast<std::uint8_t>((a[u] + 2 * b[u] + c[u] + 8) / 16);
+  }
+}
+
+namespace {
+
+inline double GreyOf(const std::uint8_t* row, int u, int channels) {
+  if (channels == 1) return row[u];
+  const std::uint8_t* p = row + u * channels;  // BGR(A), as MakeGlance
+  return static_cast<double>((29u * p[0] + 150u * p[1] + 77u * p[2] + 128u) >> 8);
+}
+
+}  // namespace
+
+void MakeAreaImage(const PixelView& frame, int width, int height, std::uint8_t* out) {
+  SQUINT_ENSURE(!frame.Empty(), "MakeAreaImage needs a non-empty frame");
+  SQUINT_ENSURE(frame.channels == 1 || frame.channels == 3 || frame.channels == 4,
+                "MakeAreaImage needs 1, 3 or 4 channels");
+  SQUINT_ENSURE(width >= 1 && height >= 1 && width <= frame.width && height <= frame.height &&
+                    width * height <= kMaxTtcPixels,
+                "MakeAreaImage needs a size within the frame's and kMaxTtcPixels");
+  const double sx = static_cast<double>(frame.width) / width, sy = static_cast<double>(frame.height) / height;
+  for (int v = 0; v < height; ++v) {
+    const double y0 = v * sy, y1 = (v + 1) * sy;
+    const int r0 = static_cast<int>(std::floor(y0)), r1 = std::min(frame.height, static_cast<int>(std::ceil(y1)));
+    for (int u = 0; u < width; ++u) {
+      const double x0 = u * sx, x1 = (u + 1) * sx;
+      const int c0 = static_cast<int>(std::floor(x0)), c1 = std::min(frame.width, static_cast<int>(std::ceil(x1)));
+      double sum = 0.0;
+      for (int r = r0; r < r1; ++r) {
+        const double wy = std::min<double>(r + 1, y1) - std::max<double>(r, y0);
+        const std::uint8_t* row = frame.data + r * frame.stride;
+        double line = 0.0;
+        for (int c = c0; c < c1; ++c)
+          line += (std::min<double>(c + 1, x1) - std::max<double>(c, x0)) * GreyOf(row, c, frame.channels);
+        sum += wy * line;
+      }
+      out[v * width + u] = static_cast<std::uint8_t>(std::clamp(std::floor(sum / (sx * sy) + 0.5), 0.0, 255.0));
+    }
+  }
+}
+
+bool TimeToContactDistance::WindowAtMinimum(double reference_m) const {
+  if (!(reference_m > 0.0) || !(focal_px_ > 0.0)) return false;
+  const double min_w = std::min(options_.ttc_window_min_px, double{kW});
+  const double min_h = std::min(options_.ttc_window_min_height_px, double{kH});
+  const double half_w = std::clamp(options_.ttc_window_half_width_m * focal_px_ / reference_m, min_w, double{kW});
+  const double half_h =
+      camera_height_m_ > 0.0
+          ? std::clamp(options_.ttc_window_height_factor * camera_height_m_ * focal_px_ / reference_m, min_h,
+                       double{kH})
+          : std::clamp(0.75 * half_w, min_h, double{kH});
+  return half_w <= min_w + 1e-9 && half_h <= min_h + 1e-9;
 }
 
 std::optional<double> TimeToContactDistance::Distance(double model_input) const {

@@ -77,6 +77,15 @@ Perceiver::Perceiver(const Options& options, std::optional<CameraModel> camera)
   distance_measures_[0] = std::make_unique<TimeToContactDistance>(
       options_.distance, glance_camera_.cx, ttc_cy, has_intrinsics_ ? glance_camera_.fx : 0.0,
       has_intrinsics_ ? glance_camera_.height_m : 0.0);
+  // Time to contact's own image (ttc_glance_scale) and the glance history, allocated once.
+  if (options_.distance.ttc_glance_scale != 1.0) {
+    ttc_width_ = static_cast<int>(std::lround(kGlanceWidth * options_.distance.ttc_glance_scale));
+    ttc_height_ = static_cast<int>(std::lround(kGlanceHeight * options_.distance.ttc_glance_scale));
+    const std::size_t n = static_cast<std::size_t>(ttc_width_ * ttc_height_);
+    ttc_image_.assign(n, 0);
+    smoothed_ttc_image_.assign(n, 0);
+    fine_history_px_.assign(n * kHistorySize, 0);
+  }
   distance_measures_[1] = std::make_unique<JeffreyDistance>(options_.distance);
   distance_measures_[2] = std::make_unique<EntropyDistance>(options_.distance);
 }
@@ -203,32 +212,49 @@ PerceptionResult Perceiver::Process(const PixelView& frame, std::optional<double
   MakeGlance(frame, options_.sampling, glance);
   const DistanceOptions& d = options_.distance;
   constexpr int kTtc = static_cast<int>(DistanceCue::kTimeToContact);
-  if (d.ttc_area_glance && options_.sampling != GlanceSampling::kArea && d.enabled[kTtc] && d.weights[kTtc] > 0.0) {
-    MakeGlance(frame, GlanceSampling::kArea, area_glance_);
-    return ProcessImpl(glance, area_glance_, travelled_m, dt_s, turned_deg);
+  const bool ttc_on = d.enabled[kTtc] && d.weights[kTtc] > 0.0;
+  const std::uint8_t* fine = nullptr;
+  if (ttc_on && !ttc_image_.empty() && frame.width >= ttc_width_ && frame.height >= ttc_height_) {
+    MakeAreaImage(frame, ttc_width_, ttc_height_, ttc_image_.data());
+    fine = ttc_image_.data();
   }
-  return ProcessImpl(glance, glance, travelled_m, dt_s, turned_deg);
+  if (d.ttc_area_glance && options_.sampling != GlanceSampling::kArea && ttc_on) {
+    MakeGlance(frame, GlanceSampling::kArea, area_glance_);
+    return ProcessImpl(glance, area_glance_, fine, travelled_m, dt_s, turned_deg);
+  }
+  return ProcessImpl(glance, glance, fine, travelled_m, dt_s, turned_deg);
 }
 
 PerceptionResult Perceiver::ProcessGlance(const Glance& glance, std::optional<double> travelled_m, double dt_s,
                                           std::optional<double> turned_deg) {
-  return ProcessImpl(glance, glance, travelled_m, dt_s, turned_deg);
+  return ProcessImpl(glance, glance, nullptr, travelled_m, dt_s, turned_deg);
 }
 
-void Perceiver::PushHistory(const Glance& g) {
-  history_head_ = (history_head_ + 1) % static_cast<int>(history_.size());
+void Perceiver::PushHistory(const Glance& g, const std::uint8_t* fine) {
+  history_head_ = (history_head_ + 1) % kHistorySize;
   history_[history_head_] = g;
+  history_fine_[history_head_] = fine != nullptr;
+  if (fine) {
+    const TtcImage slot = FineHistoryAt(history_head_);
+    std::copy(fine, fine + static_cast<std::size_t>(slot.width) * static_cast<std::size_t>(slot.height),
+              fine_history_px_.begin() + (slot.data - fine_history_px_.data()));
+  }
   history_travel_m_[history_head_] = travel_m_;
-  history_count_ = std::min(history_count_ + 1, static_cast<int>(history_.size()));
+  history_count_ = std::min(history_count_ + 1, kHistorySize);
 }
 
-PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_glance_in,
+PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_glance_in, const std::uint8_t* fine_in,
                                         std::optional<double> travelled_m, double dt_s,
                                         std::optional<double> turned_deg) {
   PerceptionResult result;
   // Time to contact compares binomially smoothed glances (DistanceOptions::ttc_smooth).
   if (options_.distance.ttc_smooth) SmoothGlance(ttc_glance_in, smoothed_ttc_glance_);
   const Glance& ttc_glance = options_.distance.ttc_smooth ? smoothed_ttc_glance_ : ttc_glance_in;
+  const std::uint8_t* fine = fine_in;
+  if (fine_in && options_.distance.ttc_smooth) {
+    SmoothTtcImage(TtcImage{fine_in, ttc_width_, ttc_height_}, smoothed_ttc_image_.data());
+    fine = smoothed_ttc_image_.data();
+  }
   for (int i = 0; i < kHeadingCueCount; ++i) result.heading[i].cue = static_cast<HeadingCue>(i);
   for (int i = 0; i < kDistanceCueCount; ++i) result.distance[i].cue = static_cast<DistanceCue>(i);
 
@@ -249,7 +275,7 @@ PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_
   // The heading filter follows the odometry on every frame, processed or skipped.
   if (had_previous) PredictHeading(travelled_m, turned_deg, dt_s);
   if (!process) {
-    PushHistory(ttc_glance);
+    PushHistory(ttc_glance, fine);
     // Skipped frames still become the previous frame of the next one, so consecutive-frame
     // measures always compare neighbouring frames.
     current_ = next;
@@ -277,11 +303,11 @@ PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_
   }
 
   if (had_previous) {
-    MeasureDistances(prev, cur, ttc_glance, travelled, result);
+    MeasureDistances(prev, cur, ttc_glance, fine, travelled, result);
   } else {
     for (DistanceMeasureResult& d : result.distance) d.reason = Reason::kNoPreviousFrame;
   }
-  PushHistory(ttc_glance);
+  PushHistory(ttc_glance, fine);
   Fuse(result);
   FilterHeading(result);
   current_ = next;
@@ -314,9 +340,11 @@ std::optional<double> Perceiver::PushAndMedian(CueWindow& w, std::optional<doubl
 }
 
 void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlance& cur, const Glance& ttc_glance,
-                                 std::optional<double> travelled, PerceptionResult& result) {
+                                 const std::uint8_t* fine, std::optional<double> travelled,
+                                 PerceptionResult& result) {
   const DistanceOptions& o = options_.distance;
-  const int n_hist = static_cast<int>(history_.size());
+  const int n_hist = kHistorySize;
+  const int history_count = history_count_;
   for (int i = 0; i < kDistanceCueCount; ++i) {
     DistanceMeasureResult& d = result.distance[i];
     if (!o.enabled[i] || o.weights[i] <= 0.0) {
@@ -324,14 +352,14 @@ void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlanc
       continue;
     }
     const bool ttc = static_cast<DistanceCue>(i) == DistanceCue::kTimeToContact;
-    if (ttc && history_count_ > 0 && o.ttc_scale_search) {
+    if (ttc && history_count > 0 && o.ttc_scale_search) {
       // The longest baseline (history_[head - k + 1] is k frames back) whose travel stays within
       // ttc_baseline_fraction of the last filtered distance, or within ttc_initial_baseline_m
       // before there is one.
       const auto& measure = static_cast<const TimeToContactDistance&>(*distance_measures_[i]);
       const double max_travel =
           last_ttc_input_m_ ? o.ttc_baseline_fraction * *last_ttc_input_m_ : o.ttc_initial_baseline_m;
-      const int max_k = std::min(o.ttc_max_baseline_frames, history_count_);
+      const int max_k = std::min(o.ttc_max_baseline_frames, history_count);
       int k = 1;
       for (int kk = max_k; kk > 1; --kk) {
         const int idx = ((history_head_ - kk + 1) % n_hist + n_hist) % n_hist;
@@ -348,14 +376,21 @@ void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlanc
       // distance, which then kept the baseline short (a trap: drive-3-00l read 1–2 m for its
       // first 2 m of driving, 14 m from the end).
       const double whole =
-          travel_m_ - history_travel_m_[((history_head_ - history_count_ + 1) % n_hist + n_hist) % n_hist];
-      if (travelled && whole < o.ttc_warmup_m - 1e-9 && history_count_ < n_hist) {
+          travel_m_ - history_travel_m_[((history_head_ - history_count + 1) % n_hist + n_hist) % n_hist];
+      if (travelled && whole < o.ttc_warmup_m - 1e-9 && history_count < n_hist) {
         d.baseline_frames = k;
         d.reason = history_[idx].pixels == ttc_glance.pixels ? Reason::kIdenticalFrames : Reason::kNoTravel;
+      } else if (fine && history_fine_[idx] &&
+                 (!o.ttc_glance_scale_far_only || !last_ttc_input_m_ || measure.WindowAtMinimum(*last_ttc_input_m_))) {
+        // Time to contact's finer image (ttc_glance_scale): always, or with
+        // ttc_glance_scale_far_only only before a first estimate and while the window is at its
+        // minimum size (far from the end).
+        measure.MeasureScale(FineHistoryAt(idx), TtcImage{fine, ttc_width_, ttc_height_}, k, s, last_ttc_input_m_,
+                             d);
       } else {
         measure.MeasureScale(history_[idx], ttc_glance, k, s, last_ttc_input_m_, d);
       }
-    } else if (ttc && history_count_ > 0) {
+    } else if (ttc && history_count > 0) {
       const auto& measure = static_cast<const TimeToContactDistance&>(*distance_measures_[i]);
       // The one-frame time to contact, median-filtered on its own: a reference for the
       // baseline that cannot run away (a too-long baseline decorrelates the glances near the
@@ -371,7 +406,7 @@ void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlanc
       // The longest baseline (history_[head - k + 1] is k frames back: the current glance is not
       // in the history yet) whose travel stays within the fraction of the reference distance;
       // with no reference yet, one frame.
-      const int max_k = std::min(o.ttc_max_baseline_frames, history_count_);
+      const int max_k = std::min(o.ttc_max_baseline_frames, history_count);
       int k = 1;
       for (int kk = max_k; kk > 1 && reference; --kk) {
         const int idx = ((history_head_ - kk + 1) % n_hist + n_hist) % n_hist;

@@ -308,6 +308,9 @@ std::string CalibrateOptions::Validate() const {
     return "ttc_cell_px must be 0 (keep the base's) or >= 3";
   if (!(ttc_cell_quantile >= 0.0 && ttc_cell_quantile <= 1.0)) return "ttc_cell_quantile must be in [0, 1]";
   if (ttc_cell_nearest < 0 || ttc_cell_nearest > 96) return "ttc_cell_nearest must be in [0, 96]";
+  if (!(ttc_glance_scale >= 1.0 && ttc_glance_scale <= 4.0)) return "ttc_glance_scale must be in [1, 4]";
+  for (double c : ttc_glance_scales)
+    if (!(c >= 1.0 && c <= 4.0)) return "every ttc_glance_scales candidate must be in [1, 4]";
   if (!(fusion_max_truth_m > 0.0)) return "fusion_max_truth_m must be positive";
   if (!(min_fused_coverage >= 0.0 && min_fused_coverage <= 1.0)) return "min_fused_coverage must be in [0, 1]";
   if (std::string s = heading.Validate(); !s.empty()) return "heading: " + s;
@@ -322,6 +325,13 @@ corridor::CorridorOptions CalibrationBaseOptions(const corridor::CorridorOptions
     out.distance.ttc_cell_px = options.ttc_cell_px;
     out.distance.ttc_cell_quantile = options.ttc_cell_quantile;
     out.distance.ttc_cell_nearest = options.ttc_cell_nearest;
+  }
+  if (options.fit_distance && options.ttc_glance_scale != 1.0 && base.distance.ttc_glance_scale == 1.0) {
+    out.distance.ttc_glance_scale = options.ttc_glance_scale;
+    out.distance.ttc_glance_scale_far_only = options.ttc_glance_scale_far_only;
+    out.distance.ttc_fine_cell_px = options.ttc_fine_cell_px;
+    out.distance.ttc_fine_cell_nearest = options.ttc_fine_cell_nearest;
+    out.distance.ttc_fine_contrast_scaled = options.ttc_fine_contrast_scaled;
   }
   return out;
 }
@@ -396,6 +406,40 @@ std::optional<FusedSample> FuseFrame(const CorridorFrame& f, const corridor::Dis
 
 }  // namespace
 
+namespace {
+
+// The frames the distance fusion is judged on: driving forward, truth within the distance fits'
+// window, up to fusion_max_truth_m.
+std::vector<const CorridorFrame*> FusionFrames(const std::vector<CorridorRun>& runs, const CalibrateOptions& options) {
+  std::vector<const CorridorFrame*> frames;
+  for (const CorridorRun& run : runs)
+    for (const CorridorFrame& f : run.frames)
+      if (f.moving_forward && f.gt.dist_end_m && *f.gt.dist_end_m >= options.distance.min_truth_m &&
+          *f.gt.dist_end_m <= std::min(options.distance.max_truth_m, options.fusion_max_truth_m))
+        frames.push_back(&f);
+  return frames;
+}
+
+}  // namespace
+
+CueRmse TtcCalibrationRmse(const std::vector<CorridorRun>& runs, const CalibrateOptions& options,
+                           const CorridorCalibrationFile& file) {
+  const corridor::DistanceOptions& d = file.options.distance;
+  std::array<std::unique_ptr<corridor::DistanceMeasure>, kDistanceCueCount> m;
+  m[0] = std::make_unique<corridor::TimeToContactDistance>(d, 0.0, 0.0);
+  CueRmse out;
+  double sq = 0.0;
+  for (const CorridorFrame* f : FusionFrames(runs, options)) {
+    ++out.frames;
+    if (const auto e = FuseFrame(*f, d, m, 1u)) {
+      sq += (e->dist_m - *f->gt.dist_end_m) * (e->dist_m - *f->gt.dist_end_m);
+      ++out.answered;
+    }
+  }
+  if (out.answered > 0) out.rmse_m = std::sqrt(sq / static_cast<double>(out.answered));
+  return out;
+}
+
 void ChooseDistanceFusion(const std::vector<CorridorRun>& runs, const CalibrateOptions& options,
                           CorridorCalibrationFile& out) {
   corridor::DistanceOptions& d = out.options.distance;
@@ -405,12 +449,7 @@ void ChooseDistanceFusion(const std::vector<CorridorRun>& runs, const CalibrateO
   m[2] = std::make_unique<corridor::EntropyDistance>(d);
   // The frames the distance fits use (driving forward, truth within the fit's window), up to
   // fusion_max_truth_m.
-  std::vector<const CorridorFrame*> frames;
-  for (const CorridorRun& run : runs)
-    for (const CorridorFrame& f : run.frames)
-      if (f.moving_forward && f.gt.dist_end_m && *f.gt.dist_end_m >= options.distance.min_truth_m &&
-          *f.gt.dist_end_m <= std::min(options.distance.max_truth_m, options.fusion_max_truth_m))
-        frames.push_back(&f);
+  const std::vector<const CorridorFrame*> frames = FusionFrames(runs, options);
   if (frames.empty()) return;
   // The cues that enter the fusion now (enabled, weighted, fuse on), as a mask.
   const auto fused_cues = [&d] {

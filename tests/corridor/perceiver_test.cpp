@@ -166,13 +166,15 @@ TEST(Perceiver, FallbackScaleWithoutIntrinsics) {
 }
 
 TEST(Perceiver, NoHeapAllocationPerGlanceInSteadyState) {
-  // Also with the heading filter and the far-structure cells (calibrated options).
+  // Also with the heading filter, the far-structure cells and time to contact's own finer image
+  // (calibrated options).
   for (const bool filter : {false, true}) {
     CorridorOptions options;
     options.gate.enabled = false;
     options.distance.speed_mps = 0.4;
     options.heading.filter.enabled = filter;
     if (filter) options.distance.ttc_cell_px = 6.0;
+    if (filter) options.distance.ttc_glance_scale = 2.0;  // time to contact's own 64×48 image
     Perceiver perceiver(options, Camera160());
     const auto a = Frame(85.0, 59.5), b = Frame(86.0, 59.5, 4);
     perceiver.Process(View(a), std::nullopt, 0.1);  // warm-up: tables built once

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <optional>
@@ -13,6 +14,20 @@
 #include "squint/corridor/prepared_glance.hpp"
 
 namespace squint::corridor {
+
+// A grey image for time to contact's scale search: the 32×24 glance or, with
+// DistanceOptions::ttc_glance_scale, a finer area-averaged image of the frame (at most
+// kMaxTtcWidth × kMaxTtcHeight). Rows are contiguous (stride = width). A view: owns no pixels.
+inline constexpr int kMaxTtcWidth = 128;
+inline constexpr int kMaxTtcHeight = 96;
+inline constexpr int kMaxTtcPixels = kMaxTtcWidth * kMaxTtcHeight;
+struct TtcImage {
+  const std::uint8_t* data = nullptr;
+  int width = 0;
+  int height = 0;
+  std::uint8_t At(int u, int v) const { return data[v * width + u]; }
+};
+inline TtcImage TtcView(const Glance& g) { return {g.pixels.data(), kGlanceWidth, kGlanceHeight}; }
 
 // Horn, Fang & Masaki's direct time to contact (eq. 3), in frame intervals, for a camera
 // translating along its optical axis towards a plane: τ = -Σ G² / Σ G·I_t with
@@ -42,10 +57,17 @@ struct ScaleMatch {
   double contrast = 0.0;  // standard deviation of the current glance in the window (grey levels)
   bool searched = false;  // the grid ran (no prediction, or its refinement was poor)
 };
-std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& current, double cx, double cy,
+std::optional<ScaleMatch> ExpansionScale(const TtcImage& earlier, const TtcImage& current, double cx, double cy,
                                          double half_width_px, double half_height_px, double max_scale,
                                          std::optional<double> initial_scale = std::nullopt,
                                          double accept_ncc = 1.0);
+inline std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& current, double cx, double cy,
+                                                double half_width_px, double half_height_px, double max_scale,
+                                                std::optional<double> initial_scale = std::nullopt,
+                                                double accept_ncc = 1.0) {
+  return ExpansionScale(TtcView(earlier), TtcView(current), cx, cy, half_width_px, half_height_px, max_scale,
+                        initial_scale, accept_ncc);
+}
 
 // Far-structure cells (DistanceOptions::ttc_cell_px): the window of ExpansionScale cut into
 // cells of about cell_px × cell_px pixels; in each cell whose grey-level σ reaches min_contrast
@@ -54,16 +76,25 @@ std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Glance& cu
 // Cells are visited nearest (cx, cy) first (ties in row-major order) and the result holds them
 // in that order; with max_cells > 0 the search stops after that many answered (the nearest
 // ones). None for a bad centre or window. At most kMaxTtcCells cells (no allocation).
-inline constexpr int kMaxTtcCells = 96;
+inline constexpr int kMaxTtcCells = 256;
 struct CellScales {
   std::array<double, kMaxTtcCells> scale{};
   std::array<double, kMaxTtcCells> radius_px{};  // of the cell's centre from the expansion centre
   int count = 0;
 };
-std::optional<CellScales> CellExpansionScales(const Glance& earlier, const Glance& current, double cx, double cy,
-                                              double half_width_px, double half_height_px, double max_scale,
-                                              double start_scale, double cell_px, double min_contrast,
-                                              double min_ncc, double max_se = HUGE_VAL, int max_cells = 0);
+std::optional<CellScales> CellExpansionScales(const TtcImage& earlier, const TtcImage& current, double cx,
+                                              double cy, double half_width_px, double half_height_px,
+                                              double max_scale, double start_scale, double cell_px,
+                                              double min_contrast, double min_ncc, double max_se = HUGE_VAL,
+                                              int max_cells = 0);
+inline std::optional<CellScales> CellExpansionScales(const Glance& earlier, const Glance& current, double cx,
+                                                     double cy, double half_width_px, double half_height_px,
+                                                     double max_scale, double start_scale, double cell_px,
+                                                     double min_contrast, double min_ncc, double max_se = HUGE_VAL,
+                                                     int max_cells = 0) {
+  return CellExpansionScales(TtcView(earlier), TtcView(current), cx, cy, half_width_px, half_height_px, max_scale,
+                             start_scale, cell_px, min_contrast, min_ncc, max_se, max_cells);
+}
 // The lower q-quantile of `values` (the element of rank floor(q · (n − 1)); reorders them); 0
 // when empty.
 double LowerQuantile(std::span<double> values, double q);
@@ -71,6 +102,13 @@ double LowerQuantile(std::span<double> values, double q);
 // 3×3 binomial smoothing ([1 2 1] ⊗ [1 2 1] / 16, rounded; border pixels repeated). `in` and
 // `out` may not be the same glance.
 void SmoothGlance(const Glance& in, Glance& out);
+// The same for any TtcImage; `out` holds in.width × in.height pixels and is not in.data.
+void SmoothTtcImage(const TtcImage& in, std::uint8_t* out);
+// `out` (width × height ≤ kMaxTtcPixels, within the frame's size) from `frame` by exact area
+// averaging: each pixel is the rounded mean of the source area [u·W/width, (u+1)·W/width) ×
+// [v·H/height, (v+1)·H/height), partial source pixels weighted by their covered fraction. Grey
+// as MakeGlance's. Preconditions (SQUINT_ENSURE): a non-empty frame with 1, 3 or 4 channels.
+void MakeAreaImage(const PixelView& frame, int width, int height, std::uint8_t* out);
 
 class DistanceMeasure {
  public:
@@ -108,10 +146,21 @@ class TimeToContactDistance final : public DistanceMeasure {
   // the window's contrast is below ttc_min_contrast or the best NCC below ttc_min_ncc (a plain
   // wall close up: no texture to match, which must not read as "no expansion, very far"). `reference_m`: the last distance
   // estimate, which sizes the window (none: the whole glance).
-  void MeasureScale(const Glance& earlier, const Glance& current, int baseline_frames,
+  // The images may be finer than the glance (DistanceOptions::ttc_glance_scale): the expansion
+  // centre, focal length and every window and cell size (given in glance pixels, i.e. angles) are
+  // scaled by image width / 32 and height / 24.
+  void MeasureScale(const TtcImage& earlier, const TtcImage& current, int baseline_frames,
                     std::optional<double> travelled_m, std::optional<double> reference_m,
                     DistanceMeasureResult& out) const;
+  void MeasureScale(const Glance& earlier, const Glance& current, int baseline_frames,
+                    std::optional<double> travelled_m, std::optional<double> reference_m,
+                    DistanceMeasureResult& out) const {
+    MeasureScale(TtcView(earlier), TtcView(current), baseline_frames, travelled_m, reference_m, out);
+  }
   std::optional<double> Distance(double model_input) const override;
+  // Whether the scale search's window for the reference distance is at its minimum size in both
+  // directions (far from the end; false without intrinsics).
+  bool WindowAtMinimum(double reference_m) const;
 
  private:
   DistanceOptions options_;

@@ -5,6 +5,7 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "squint/core/camera.hpp"
 #include "squint/core/image_view.hpp"
@@ -104,8 +105,10 @@ class Perceiver {
  private:
   // ProcessGlance with `ttc_glance` (the glance time to contact compares: area-averaged for
   // Process() with DistanceOptions::ttc_area_glance, else `glance` itself).
-  PerceptionResult ProcessImpl(const Glance& glance, const Glance& ttc_glance, std::optional<double> travelled_m,
-                               double dt_s, std::optional<double> turned_deg);
+  // `fine`: time to contact's finer image of the frame (DistanceOptions::ttc_glance_scale;
+  // ttc_width_ × ttc_height_), or null.
+  PerceptionResult ProcessImpl(const Glance& glance, const Glance& ttc_glance, const std::uint8_t* fine,
+                               std::optional<double> travelled_m, double dt_s, std::optional<double> turned_deg);
   // The heading filter (HeadingOptions::filter): the prediction by the odometry's turn (every
   // frame) and the update by the cues (processed frames).
   void PredictHeading(std::optional<double> travelled_m, std::optional<double> turned_deg, double dt_s);
@@ -118,9 +121,15 @@ class Perceiver {
   // Distance cues: time to contact over the chosen baseline, the temporal medians, and the
   // glance history they need (fixed-size: no allocation).
   void MeasureDistances(const PreparedGlance& prev, const PreparedGlance& cur, const Glance& ttc_glance,
-                        std::optional<double> travelled, PerceptionResult& result);
-  // Pushes `g` into the time-to-contact history with the travel so far.
-  void PushHistory(const Glance& g);
+                        const std::uint8_t* fine, std::optional<double> travelled, PerceptionResult& result);
+  // Pushes `g` (and the finer image `fine`, when not null) into the time-to-contact history
+  // with the travel so far.
+  void PushHistory(const Glance& g, const std::uint8_t* fine);
+  // The finer image of history entry `idx`.
+  TtcImage FineHistoryAt(int idx) const {
+    return {fine_history_px_.data() + static_cast<std::size_t>(idx) * static_cast<std::size_t>(ttc_width_ * ttc_height_),
+            ttc_width_, ttc_height_};
+  }
   void ResetDistanceHistory();
 
   Options options_;
@@ -136,8 +145,13 @@ class Perceiver {
   // Distance state. history_: the last glances of continuous forward driving (ring, newest at
   // history_head_), with the odometry travel accumulated up to each; cues_: per cue, the last
   // median_frames model inputs (ring) with the travel at which each was measured.
-  std::array<Glance, kMaxTtcBaselineFrames + 1> history_{};
-  std::array<double, kMaxTtcBaselineFrames + 1> history_travel_m_{};
+  static constexpr int kHistorySize = kMaxTtcBaselineFrames + 1;
+  std::array<Glance, kHistorySize> history_{};
+  // With ttc_glance_scale: the finer image of each history entry (kHistorySize images of
+  // ttc_width_ × ttc_height_, allocated once) and whether the entry has one.
+  std::vector<std::uint8_t> fine_history_px_;
+  std::array<bool, kHistorySize> history_fine_{};
+  std::array<double, kHistorySize> history_travel_m_{};
   int history_count_ = 0;
   int history_head_ = 0;
   double travel_m_ = 0.0;
@@ -155,6 +169,10 @@ class Perceiver {
   std::optional<double> last_ttc_input_m_;  // the last filtered time-to-contact input
   Glance area_glance_{};                    // Process()'s area-averaged glance for time to contact
   Glance smoothed_ttc_glance_{};            // the time-to-contact glance smoothed (ttc_smooth)
+  int ttc_width_ = kGlanceWidth;            // time to contact's own image (ttc_glance_scale)
+  int ttc_height_ = kGlanceHeight;
+  std::vector<std::uint8_t> ttc_image_;     // Process()'s area-averaged image of that size
+  std::vector<std::uint8_t> smoothed_ttc_image_;  // ... smoothed (ttc_smooth)
   CorridorKalman heading_filter_;           // heading half only (HeadingOptions::filter)
 };
 

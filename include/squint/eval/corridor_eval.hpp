@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <filesystem>
 #include <functional>
@@ -159,6 +160,24 @@ struct CalibrateOptions {
   // calibration sets, drive-3-00* fused 0.60 / 3.24 -> 0.40 / 2.87 m, the simulator's
   // corridor-0…4 drives 4.12 / 2.78 -> 4.16 / 2.63 m.
   int ttc_cell_nearest = 8;
+  // Time to contact's own finer image (corridor::DistanceOptions::ttc_glance_scale), used for the
+  // fit's own run and written to the options unless the base options set one (then theirs);
+  // 1 = keep the base's.
+  double ttc_glance_scale = 1.0;
+  bool ttc_glance_scale_far_only = false;
+  double ttc_fine_cell_px = 0.0;
+  int ttc_fine_cell_nearest = 0;
+  bool ttc_fine_contrast_scaled = false;
+  // Candidates for ttc_glance_scale that `squint calibrate` runs and fits in turn, keeping the
+  // one whose time-to-contact cue has the lowest RMSE on the distance fusion's frames
+  // (TtcCalibrationRmse; ties: the smaller scale; a candidate answering on fewer than 95 % of
+  // the frames another answers on is not chosen). Empty (the default): ttc_glance_scale alone.
+  // Session 7 (docs/calibration.md, "Distance: session 7"): with 1, 1.5, 2, 2.5, 3 both
+  // calibration sets chose 1.5 (time to contact 4.77 -> 1.63 m on drive-3-00*), but on the
+  // drive-* test split the fused estimate got worse (0.52 / 2.69 -> 3.32 / 2.98 m: close to a
+  // plain end wall the finer image's noise passes the contrast threshold and reads "no
+  // expansion"), so no choice is made by default.
+  std::vector<double> ttc_glance_scales;
   // The distance fusion (ChooseDistanceFusion): keep only the subset of cues whose fused estimate
   // has the lowest RMSE on the calibration drives (the others are reported, not fused), and give
   // no fused estimate whose σ exceeds the standard deviation of the true distances there.
@@ -181,6 +200,18 @@ struct CalibrateOptions {
 // the σ limit is kept only when it lowers the fused RMSE with min_fused_coverage of the frames.
 void ChooseDistanceFusion(const std::vector<CorridorRun>& runs, const CalibrateOptions& options,
                           CorridorCalibrationFile& out);
+
+// The time-to-contact cue's RMSE on the frames ChooseDistanceFusion judges (driving forward,
+// truth within the distance fits' window and fusion_max_truth_m): its fitted model in
+// `file.options` applied to the Perceiver's filtered input, range-checked; `answered` of `frames`
+// gave an estimate (rmse_m infinite when none).
+struct CueRmse {
+  double rmse_m = HUGE_VAL;
+  std::size_t answered = 0;
+  std::size_t frames = 0;
+};
+CueRmse TtcCalibrationRmse(const std::vector<CorridorRun>& runs, const CalibrateOptions& options,
+                           const CorridorCalibrationFile& file);
 
 // The options `squint calibrate` measures with and writes: `base` with the choices above
 // applied (the far-structure cells when distance is fitted and the base has none).
