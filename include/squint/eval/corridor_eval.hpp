@@ -175,8 +175,8 @@ struct CalibrateOptions {
   // Session 7 (docs/calibration.md, "Distance: session 7"): with 1, 1.5, 2, 2.5, 3 both
   // calibration sets chose 1.5 (time to contact 4.77 -> 1.63 m on drive-3-00*), but on the
   // drive-* test split the fused estimate got worse (0.52 / 2.69 -> 3.32 / 2.98 m: close to a
-  // plain end wall the finer image's noise passes the contrast threshold and reads "no
-  // expansion"), so no choice is made by default.
+  // plain end wall it read metres too far, likely the finer pixels' noise passing the contrast
+  // threshold as "no expansion"), so no choice is made by default.
   std::vector<double> ttc_glance_scales;
   // The distance fusion (ChooseDistanceFusion): keep only the subset of cues whose fused estimate
   // has the lowest RMSE on the calibration drives (the others are reported, not fused), and give
