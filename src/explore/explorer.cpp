@@ -84,14 +84,9 @@ std::string ExplorerOptions::Validate() const {
   if (!Positive(sonar_centre_max_lateral_m)) return "sonar_centre_max_lateral_m must be positive";
   if (!Positive(rescan_yaw_deg)) return "rescan_yaw_deg must be positive";
   if (!NonNegative(trust_memory_after_m)) return "trust_memory_after_m must be >= 0";
-  if (!(trust_memory_max_turn_deg >= 0.0 && trust_memory_max_turn_deg <= 180.0))
-    return "trust_memory_max_turn_deg must be in [0, 180]";
   if (!(trust_memory_max_wall_lines >= 0.0 && trust_memory_max_wall_lines <= 1.0)) return "trust_memory_max_wall_lines must be in [0, 1]";
   if (!(blind_view_fraction > 0.0 && blind_view_fraction <= 1.0)) return "blind_view_fraction must be in (0, 1]";
   if (!NonNegative(blind_view_entropy_ratio)) return "blind_view_entropy_ratio must be >= 0";
-  if (!(blind_view_lift_ratio >= blind_view_entropy_ratio && std::isfinite(blind_view_lift_ratio)))
-    return "blind_view_lift_ratio must be >= blind_view_entropy_ratio";
-  if (!NonNegative(blind_view_carried_min_nats)) return "blind_view_carried_min_nats must be >= 0";
   if (!(blind_view_max_wall_lines >= 0.0 && blind_view_max_wall_lines <= 1.0)) return "blind_view_max_wall_lines must be in [0, 1]";
   if (!Positive(side_window_m)) return "side_window_m must be positive";
   if (!Positive(side_wall_max_lateral_m)) return "side_wall_max_lateral_m must be positive";
@@ -128,6 +123,8 @@ Explorer::Explorer(const ExplorerOptions& options) : opt_(options), map_(options
   ref_entropy_.reserve(static_cast<std::size_t>(opt_.reference_window));
   scan_sum_.assign(static_cast<std::size_t>(opt_.scan_bins), 0.0);
   scan_count_.assign(static_cast<std::size_t>(opt_.scan_bins), 0);
+  scan_views_.assign(static_cast<std::size_t>(opt_.scan_bins), 0);
+  scan_wall_views_.assign(static_cast<std::size_t>(opt_.scan_bins), 0);
 }
 
 double Explorer::HeadingEstimateDeg() const { return RadToDeg(WrapPi(last_odom_.yaw - axis_yaw_odom_)); }
@@ -169,6 +166,7 @@ Command Explorer::Step(const Percept& p) {
 // --- Visual sonar -------------------------------------------------------------------------------
 
 void Explorer::UpdateSonar(const Percept& p) {
+  view_is_wall_ = false;
   if (p.sonar == nullptr) return;
   const std::vector<SonarColumn>* scan = p.sonar;
   if (opt_.blind_view_entropy_ratio > 0.0 && !p.sonar->empty() && p.glance_entropy_nats) {
@@ -176,22 +174,15 @@ void Explorer::UpdateSonar(const Percept& p) {
     for (const SonarColumn& c : *p.sonar) blocked += c.kind == SonarReturn::kBlockedNear ? 1 : 0;
     // Before any corridor was seen (start-up), the start's absolute "corridor view" entropy.
     const double ref = ReferenceEntropy();
-    // Until this corridor has its own reference, the carried one counts as at least
-    // blind_view_carried_min_nats (it may be a wall's).
-    const double carried_ref = static_cast<int>(ref_entropy_.size()) < kOwnReferenceSamples
-                                   ? std::max(ref, opt_.blind_view_carried_min_nats)
-                                   : ref;
-    double threshold = ref > 0.0 ? opt_.blind_view_entropy_ratio * carried_ref : opt_.start_corridor_entropy_nats;
-    // After a wall view, a higher bar (hysteresis).
-    if (wall_view_) threshold *= opt_.blind_view_lift_ratio / opt_.blind_view_entropy_ratio;
+    const double threshold = ref > 0.0 ? opt_.blind_view_entropy_ratio * ref : opt_.start_corridor_entropy_nats;
     const bool view = blocked >= opt_.blind_view_fraction * static_cast<double>(p.sonar->size());
     // While following, a view with a brick wall's periodic mortar lines is a wall whatever its
     // entropy (the lines keep it at corridor level); turning in place keeps the entropy rule (the
     // probe's view of a branch mouth beside a brick corner).
     const bool wall_lines = opt_.blind_view_max_wall_lines > 0.0 && state_ == ExploreState::kFollow &&
                             p.sonar_wall_lines >= opt_.blind_view_max_wall_lines;
-    wall_view_ = view && (*p.glance_entropy_nats < threshold || wall_lines);
-    if (view && !wall_view_) {
+    view_is_wall_ = view && (*p.glance_entropy_nats < threshold || wall_lines);
+    if (view && !view_is_wall_) {
       // A corridor view in the glance, no floor contrast in the sonar: no information.
       sonar_copy_ = *p.sonar;
       for (SonarColumn& c : sonar_copy_)
@@ -222,10 +213,9 @@ bool Explorer::UseBlocked(double yaw) const {
 
 double Explorer::Free(const Percept& p, double yaw, double max_m) const {
   const bool use_blocked = UseBlocked(yaw);
-  // Where the floor there was seen they are ignored, unless the robot turned since (it was seen
-  // from the side, not from behind).
-  const bool straight = (opt_.trust_memory_max_turn_deg <= 0.0 || straight_travel_m_ >= opt_.trust_memory_after_m) &&
-                        !(opt_.trust_memory_max_wall_lines > 0.0 && last_wall_lines_ >= opt_.trust_memory_max_wall_lines);
+  // Where the floor there was seen they are ignored, unless the latest frame shows a brick wall's
+  // lines (trust_memory_max_wall_lines).
+  const bool straight = !(opt_.trust_memory_max_wall_lines > 0.0 && last_wall_lines_ >= opt_.trust_memory_max_wall_lines);
   return memory_.FreeTravel(p.odom_T_robot, yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m, use_blocked,
                             straight);
 }
@@ -284,12 +274,6 @@ void Explorer::UpdateMapPose(const Percept& p) {
   map_pose_.yaw = yaw;
   if (state_ == ExploreState::kFollow) {
     travel_in_corridor_m_ += std::abs(ds);
-    if (std::abs(WrapPi(p.odom_T_robot.yaw - straight_yaw_)) > DegToRad(opt_.trust_memory_max_turn_deg)) {
-      straight_yaw_ = p.odom_T_robot.yaw;
-      straight_travel_m_ = 0.0;
-    } else {
-      straight_travel_m_ += std::abs(ds);
-    }
     if (dist_end_m_ >= 0.0) dist_end_m_ = std::max(0.0, dist_end_m_ - ds * std::cos(WrapPi(p.odom_T_robot.yaw - axis_yaw_odom_)));
   }
   last_odom_ = p.odom_T_robot;
@@ -320,6 +304,10 @@ Command Explorer::ScanStep(const Percept& p) {
       scan_sum_[b] += *p.glance_entropy_nats;
       ++scan_count_[b];
     }
+    if (p.sonar != nullptr) {
+      ++scan_views_[b];
+      if (view_is_wall_) ++scan_wall_views_[b];
+    }
     if (p.processed && p.heading_deg) {
       const double a = std::fmod(p.odom_T_robot.yaw - DegToRad(*p.heading_deg) + 8 * kPi, kPi / 2);
       scan_axis_mod90_.push_back(a);
@@ -340,6 +328,23 @@ Command Explorer::ScanStep(const Percept& p) {
         n += scan_count_[j];
       }
       return n > 0 ? s / n : -1.0;
+    };
+    // Free travel for the choice: none where the sonar's views around the yaw (+-1 bin) were
+    // mostly a wall filling the view. Such a wall stands inside the blind range: its columns are
+    // blocked near and never remembered, so the memory alone finds that direction the freest
+    // (corridor-6 start 2: 0.1 m from a wall, the start-up scan set off into it).
+    auto scan_free = [&](double yaw) {
+      if (opt_.scan_skips_wall_views) {
+        const double r = WrapPi(yaw - scan_start_yaw_);
+        const int c = static_cast<int>(std::floor((r < 0 ? r + 2 * kPi : r) / (2 * kPi) * bins)) % bins;
+        int views = 0, walls = 0;
+        for (int k = -1; k <= 1; ++k) {
+          views += scan_views_[static_cast<std::size_t>((c + k + bins) % bins)];
+          walls += scan_wall_views_[static_cast<std::size_t>((c + k + bins) % bins)];
+        }
+        if (views > 0 && 2 * walls > views) return 0.0;
+      }
+      return Free(p, yaw, 3.0);
     };
     // The Manhattan axis modulo 90°: the mode of the candidates (2° bins, ±2 bins smoothing).
     double axis_mod = 0.0;
@@ -374,7 +379,7 @@ Command Explorer::ScanStep(const Percept& p) {
       for (int k = 0; k < 4; ++k) {
         const double yaw = WrapPi(axis_mod + k * kPi / 2);
         // With the sonar the free travel decides (metres dominate), entropy breaks ties.
-        const double h = entropy_at(yaw) + (sonar_seen_ ? 10.0 * Free(p, yaw, 3.0) : 0.0);
+        const double h = entropy_at(yaw) + (sonar_seen_ ? 10.0 * scan_free(yaw) : 0.0);
         if (h > best) {
           best = h;
           best_yaw = yaw;
@@ -383,7 +388,7 @@ Command Explorer::ScanStep(const Percept& p) {
     } else {
       for (int i = 0; i < bins; ++i) {
         const double yaw = WrapPi(scan_start_yaw_ + (i + 0.5) * 2 * kPi / bins);
-        const double h = entropy_at(yaw) + (sonar_seen_ ? 10.0 * Free(p, yaw, 3.0) : 0.0);
+        const double h = entropy_at(yaw) + (sonar_seen_ ? 10.0 * scan_free(yaw) : 0.0);
         if (h > best) {
           best = h;
           best_yaw = yaw;
@@ -470,8 +475,6 @@ void Explorer::StartFollow(const Percept&) {
   state_ = ExploreState::kFollow;
   end_count_ = 0;
   travel_in_corridor_m_ = 0.0;
-  straight_yaw_ = last_odom_.yaw;
-  straight_travel_m_ = 0.0;
   dist_end_m_ = -1.0;
   dist_hist_.clear();
   entropy_low_count_ = 0;
@@ -855,6 +858,8 @@ void Explorer::Decide(const Percept& p) {
     scan_axis_mod90_.clear();
     std::fill(scan_sum_.begin(), scan_sum_.end(), 0.0);
     std::fill(scan_count_.begin(), scan_count_.end(), 0);
+    std::fill(scan_views_.begin(), scan_views_.end(), 0);
+    std::fill(scan_wall_views_.begin(), scan_wall_views_.end(), 0);
     scan_turned_ = 0.0;
     scan_start_yaw_ = scan_prev_yaw_ = p.odom_T_robot.yaw;
     scan_rotating_ = true;

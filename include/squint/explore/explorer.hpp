@@ -56,6 +56,14 @@ struct ExplorerOptions {
   // scan's processed frames; of its four directions the robot sets off along the one whose glance
   // entropy is highest (the paper: entropy peaks looking down the corridor).
   int scan_bins = 36;
+  // The scan's choice of direction takes no free travel where the sonar's views (within one bin)
+  // were mostly a wall filling the view (blocked near across it, the glance entropy below the
+  // blind-view threshold): such a wall stands inside the blind range and is never remembered, so
+  // the memory alone finds that direction the freest (corridor-6 start 2, 0.1 m from a wall,
+  // set off into it). Off by default: corridor-6 start 2 then replays without collision, but
+  // default's 45-minute route changes at its NW corner (coverage 0.85 on seed 1;
+  // docs/explore.md, session 7).
+  bool scan_skips_wall_views = false;
   double scan_rate_rps = 0.6;
   // Axis re-acquisition: after this many consecutive outlier innovations, the axis is reset to
   // their median (the corridor frame was lost).
@@ -106,15 +114,7 @@ struct ExplorerOptions {
   // the narrow sector at the blind range, and those along which the floor in the blind zone was
   // seen from farther back are ignored...
   double trust_memory_after_m = 1.6;
-  // ...the latter, when this is positive, only after that travel driven straight: with the odometry
-  // yaw held within this many degrees of one heading. A turn (gap steering, or a drift of the
-  // heading) starts the count again: the blind zone ahead on the new heading was seen from the
-  // side, not from behind (corridor-9's T: the robot turned 30-40 degrees toward a brick wall whose
-  // base the sonar had misread as floor from there). Off (0) by default: with 10 degrees
-  // corridor-9's starts 2, 4 and 5 replay without collision, but the seeded starts as a whole do
-  // not improve (docs/explore.md, session 6).
-  double trust_memory_max_turn_deg = 0.0;
-  // Nor when the latest scan's frame shows wall lines (VisualSonar::WallLineFraction, brick
+  // ...but not when the latest scan's frame shows wall lines (VisualSonar::WallLineFraction, brick
   // mortar) in at least this fraction of its bands: a brick wall ahead, whose base the sonar may
   // have read as floor from farther back. 0 turns it off. Off by default: 0.375 and 0.625 fix
   // corridor-9 start 2 but cost corridor-1 start 7 or corridor-9 start 7 (116/120 either way;
@@ -131,21 +131,6 @@ struct ExplorerOptions {
   double blind_view_fraction = 0.75;
   double blind_view_entropy_ratio = 0.85;
   bool blind_view_clears = true;  // such a view also clears the memory along its rays out to the blind range
-  // Hysteresis, when above blind_view_entropy_ratio: after a view of that kind read as a wall (its
-  // entropy below the threshold), a blind view needs at least blind_view_lift_ratio x the
-  // reference (before any reference: the start's threshold scaled alike) until a view with floor
-  // in it is seen. Where the entropy hovers at the threshold (a wall of the floor's grey, or a
-  // brick wall, approached 30 degrees off), single views just above it let the robot creep into
-  // the wall one scan at a time. Off (equal to the ratio) by default: 0.90 fixes such replays
-  // (corridor-2, corridor-7) but not the seeded starts as a whole (docs/explore.md, session 6).
-  double blind_view_lift_ratio = 0.85;
-  // Until the corridor being followed has its own reference (8 samples, 1.2 m), the reference
-  // carried over from the start-up scan or the corridor before counts as at least this many nats
-  // (2.7: the start's corridor entropy): a carried reference may be a wall's (corridor-6: the
-  // start-up scan set off facing a wall at 1.47 nats, and every wall then read as a blind view).
-  // Off (0) by default: 2.7 gives the seeded starts 115/120 instead of 114 (corridor-6 10/10), but
-  // default's 45-minute coverage 0.85 instead of 1.00 on seed 1 (docs/explore.md, session 6).
-  double blind_view_carried_min_nats = 0.0;
   // A blind view whose sonar frame shows periodic horizontal lines in at least this fraction of
   // its column bands (Percept::sonar_wall_lines: a brick wall's mortar, which keeps the glance
   // entropy at corridor level) reads as a wall whatever its entropy, while following (turning in
@@ -299,8 +284,6 @@ class Explorer {
   int end_count_ = 0;
   int entropy_low_count_ = 0;
   double travel_in_corridor_m_ = 0.0;
-  double straight_yaw_ = 0.0;        // odometry yaw the straight run is held to (trust_memory_max_turn_deg)
-  double straight_travel_m_ = 0.0;   // travel since the yaw last left that band
   std::vector<double> ref_entropy_;  // ring buffer of glance entropies while following
   int ref_next_ = 0;
   double last_ref_entropy_ = 0.0;
@@ -316,6 +299,8 @@ class Explorer {
   std::vector<double> dist_hist_;
   std::vector<double> scan_sum_;
   std::vector<int> scan_count_;
+  std::vector<int> scan_views_;       // per bin: sonar views during the scan
+  std::vector<int> scan_wall_views_;  // ...of them read as a wall filling the view
   double scan_turned_ = 0.0;
   double scan_start_yaw_ = 0.0;
   double scan_prev_yaw_ = 0.0;
@@ -351,7 +336,7 @@ class Explorer {
   ObstacleMemory memory_;
   std::vector<SonarColumn> sonar_copy_;  // a scan with blocked-near columns read as unknown (blind view)
   long blind_views_ = 0;
-  bool wall_view_ = false;  // the latest view with blocked near across it was read as a wall (blind_view_lift_ratio)
+  bool view_is_wall_ = false;  // this step's sonar view read as a wall filling the view
   bool sonar_seen_ = false;
   double last_scan_yaw_ = 0.0;
   double last_wall_lines_ = 0.0;  // the latest scan's Percept::sonar_wall_lines
