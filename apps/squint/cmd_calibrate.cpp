@@ -186,16 +186,6 @@ void Register(CLI::App& root) {
                   "RMSE on the fusion's frames is lowest is written (none: --ttc-glance-scale alone)")
       ->delimiter(',')
       ->capture_default_str();
-  cmd->add_flag("--ttc-glance-scale-far-only", opt->fit.ttc_glance_scale_far_only,
-                "... only far from the end (before a first estimate and while the window is at its minimum)");
-  cmd->add_option("--ttc-fine-cell-px", opt->fit.ttc_fine_cell_px,
-                  "Cells on the finer image, glance pixels (0 = --ttc-cell-px)")
-      ->capture_default_str();
-  cmd->add_option("--ttc-fine-cell-nearest", opt->fit.ttc_fine_cell_nearest,
-                  "Nearest cells that count on the finer image (0 = --ttc-cell-nearest)")
-      ->capture_default_str();
-  cmd->add_flag("--ttc-fine-contrast-scaled", opt->fit.ttc_fine_contrast_scaled,
-                "Scale time to contact's contrast threshold on the finer image by its scale");
   cmd->add_flag("--all-distance-cues{false}", opt->fit.select_distance_cues,
                 "Fuse every distance cue (default: the subset whose fused estimate has the lowest RMSE on these "
                 "sequences; the others are reported, not fused)");

@@ -165,11 +165,6 @@ void ReadDistance(const YAML::Node& node, const std::string& source, corridor::D
   r.Get("ttc_warmup_m", d.ttc_warmup_m);
   r.Get("ttc_area_glance", d.ttc_area_glance);
   r.Get("ttc_glance_scale", d.ttc_glance_scale);
-  r.Get("ttc_glance_scale_far_only", d.ttc_glance_scale_far_only);
-  r.Get("ttc_fine_cell_px", d.ttc_fine_cell_px);
-  r.Get("ttc_fine_cell_nearest", d.ttc_fine_cell_nearest);
-  r.Get("ttc_fine_contrast_scaled", d.ttc_fine_contrast_scaled);
-  r.Get("ttc_cell_max_spread", d.ttc_cell_max_spread);
   r.Get("ttc_min_contrast", d.ttc_min_contrast);
   r.Get("ttc_min_ncc", d.ttc_min_ncc);
   r.Get("ttc_cell_px", d.ttc_cell_px);
@@ -317,11 +312,6 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
   e << YAML::Key << "ttc_warmup_m" << YAML::Value << d.ttc_warmup_m;
   e << YAML::Key << "ttc_area_glance" << YAML::Value << d.ttc_area_glance;
   e << YAML::Key << "ttc_glance_scale" << YAML::Value << d.ttc_glance_scale;
-  e << YAML::Key << "ttc_glance_scale_far_only" << YAML::Value << d.ttc_glance_scale_far_only;
-  e << YAML::Key << "ttc_fine_cell_px" << YAML::Value << d.ttc_fine_cell_px;
-  e << YAML::Key << "ttc_fine_cell_nearest" << YAML::Value << d.ttc_fine_cell_nearest;
-  e << YAML::Key << "ttc_fine_contrast_scaled" << YAML::Value << d.ttc_fine_contrast_scaled;
-  e << YAML::Key << "ttc_cell_max_spread" << YAML::Value << d.ttc_cell_max_spread;
   e << YAML::Key << "ttc_min_contrast" << YAML::Value << d.ttc_min_contrast;
   e << YAML::Key << "ttc_min_ncc" << YAML::Value << d.ttc_min_ncc;
   e << YAML::Key << "ttc_cell_px" << YAML::Value << d.ttc_cell_px;

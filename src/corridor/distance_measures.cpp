@@ -500,12 +500,7 @@ void TimeToContactDistance::MeasureScale(const TtcImage& earlier, const TtcImage
     predicted = 1.0 + *travelled_m / *reference_m;
   const std::optional<ScaleMatch> m = ExpansionScale(earlier, current, cx, cy, half_w, half_h,
                                                      options_.ttc_max_scale, predicted, options_.ttc_min_ncc);
-  // On a finer image the noise of a pixel, a mean over fewer source pixels, is larger by the
-  // scale (ttc_fine_contrast_scaled: the threshold too).
-  const double min_contrast =
-      !glance_size && options_.ttc_fine_contrast_scaled ? options_.ttc_min_contrast * std::sqrt(fx * fy)
-                                                        : options_.ttc_min_contrast;
-  if (!m || m->contrast < min_contrast || m->ncc < options_.ttc_min_ncc)
+  if (!m || m->contrast < options_.ttc_min_contrast || m->ncc < options_.ttc_min_ncc)
     return SetNoEstimate(out, Reason::kZeroGradient);
   double scale = m->scale;
   if (options_.ttc_cell_px > 0.0 && m->scale - 1.0 >= options_.ttc_cell_min_expansion) {
@@ -518,30 +513,18 @@ void TimeToContactDistance::MeasureScale(const TtcImage& earlier, const TtcImage
     // corridor is); with ttc_cell_nearest_at_min_window only while the window is at its minimum
     // size (far away, where it holds more than the end wall).
     const bool at_min = half_w <= min_w + 1e-9 && half_h <= min_h + 1e-9;
-    // On the finer image (ttc_glance_scale) its own cell size and count when set.
-    const int nearest = !glance_size && options_.ttc_fine_cell_nearest > 0 ? options_.ttc_fine_cell_nearest
-                                                                           : options_.ttc_cell_nearest;
     const int max_cells =
-        nearest > 0 && (!options_.ttc_cell_nearest_at_min_window || at_min) ? nearest : 0;
-    const double cell_glance_px =
-        !glance_size && options_.ttc_fine_cell_px > 0.0 ? options_.ttc_fine_cell_px : options_.ttc_cell_px;
-    const double cell_px = glance_size ? options_.ttc_cell_px : cell_glance_px * std::sqrt(fx * fy);
+        options_.ttc_cell_nearest > 0 && (!options_.ttc_cell_nearest_at_min_window || at_min)
+            ? options_.ttc_cell_nearest
+            : 0;
+    // The cell size in this image's pixels (ttc_cell_px is in glance pixels).
+    const double cell_px = glance_size ? options_.ttc_cell_px : options_.ttc_cell_px * std::sqrt(fx * fy);
     std::optional<CellScales> cells = CellExpansionScales(
         earlier, current, cx, cy, half_w, half_h, options_.ttc_max_scale, m->scale, cell_px,
-        min_contrast, options_.ttc_min_ncc, options_.ttc_cell_max_se_fraction * expected, max_cells);
-    if (cells && cells->count >= options_.ttc_cell_min_count) {
-      const std::span<double> v(cells->scale.data(), static_cast<std::size_t>(cells->count));
-      scale = LowerQuantile(v, options_.ttc_cell_quantile);
-      // The cells' agreement (ttc_cell_max_spread): their interquartile range of σ over the
-      // estimate's expansion σ − 1; cells that disagree more give no reading.
-      if (options_.ttc_cell_max_spread > 0.0) {
-        const double q1 = LowerQuantile(v, 0.25), q3 = LowerQuantile(v, 0.75);
-        if (!(q3 - q1 <= options_.ttc_cell_max_spread * std::max(scale - 1.0, 1e-3))) {
-          out.raw = scale - 1.0;
-          return SetNoEstimate(out, Reason::kOutOfRange);
-        }
-      }
-    }
+        options_.ttc_min_contrast, options_.ttc_min_ncc, options_.ttc_cell_max_se_fraction * expected, max_cells);
+    if (cells && cells->count >= options_.ttc_cell_min_count)
+      scale = LowerQuantile(std::span<double>(cells->scale.data(), static_cast<std::size_t>(cells->count)),
+                            options_.ttc_cell_quantile);
   }
   out.raw = scale - 1.0;
   if (!(scale > 1.0)) return SetNoEstimate(out, Reason::kNotApproaching);
@@ -621,19 +604,6 @@ void MakeAreaImage(const PixelView& frame, int width, int height, std::uint8_t* 
       out[v * width + u] = static_cast<std::uint8_t>(std::clamp(std::floor(sum / (sx * sy) + 0.5), 0.0, 255.0));
     }
   }
-}
-
-bool TimeToContactDistance::WindowAtMinimum(double reference_m) const {
-  if (!(reference_m > 0.0) || !(focal_px_ > 0.0)) return false;
-  const double min_w = std::min(options_.ttc_window_min_px, double{kW});
-  const double min_h = std::min(options_.ttc_window_min_height_px, double{kH});
-  const double half_w = std::clamp(options_.ttc_window_half_width_m * focal_px_ / reference_m, min_w, double{kW});
-  const double half_h =
-      camera_height_m_ > 0.0
-          ? std::clamp(options_.ttc_window_height_factor * camera_height_m_ * focal_px_ / reference_m, min_h,
-                       double{kH})
-          : std::clamp(0.75 * half_w, min_h, double{kH});
-  return half_w <= min_w + 1e-9 && half_h <= min_h + 1e-9;
 }
 
 std::optional<double> TimeToContactDistance::Distance(double model_input) const {

@@ -172,11 +172,6 @@ std::string DistanceOptions::Validate() const {
     e << "distance.ttc_glance_scale must be in [1, 4]; ";
   else if (ttc_glance_scale != 1.0 && !ttc_scale_search)
     e << "distance.ttc_glance_scale other than 1 needs ttc_scale_search; ";
-  if (!Finite(ttc_fine_cell_px) || (ttc_fine_cell_px != 0.0 && ttc_fine_cell_px < 1.0))
-    e << "distance.ttc_fine_cell_px must be 0 (ttc_cell_px) or >= 1; ";
-  if (ttc_fine_cell_nearest < 0 || ttc_fine_cell_nearest > 256)  // kMaxTtcCells
-    e << "distance.ttc_fine_cell_nearest must be in [0, 256]; ";
-  if (!Finite(ttc_cell_max_spread) || ttc_cell_max_spread < 0.0) e << "distance.ttc_cell_max_spread must be >= 0; ";
   if (ttc_max_baseline_frames < 1 || ttc_max_baseline_frames > kMaxTtcBaselineFrames)
     e << "distance.ttc_max_baseline_frames must be in [1, " << kMaxTtcBaselineFrames << "]; ";
   if (!Finite(ttc_baseline_fraction) || ttc_baseline_fraction <= 0.0 || ttc_baseline_fraction > 1.0)

@@ -380,11 +380,8 @@ void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlanc
       if (travelled && whole < o.ttc_warmup_m - 1e-9 && history_count < n_hist) {
         d.baseline_frames = k;
         d.reason = history_[idx].pixels == ttc_glance.pixels ? Reason::kIdenticalFrames : Reason::kNoTravel;
-      } else if (fine && history_fine_[idx] &&
-                 (!o.ttc_glance_scale_far_only || !last_ttc_input_m_ || measure.WindowAtMinimum(*last_ttc_input_m_))) {
-        // Time to contact's finer image (ttc_glance_scale): always, or with
-        // ttc_glance_scale_far_only only before a first estimate and while the window is at its
-        // minimum size (far from the end).
+      } else if (fine && history_fine_[idx]) {
+        // Time to contact's finer image (ttc_glance_scale).
         measure.MeasureScale(FineHistoryAt(idx), TtcImage{fine, ttc_width_, ttc_height_}, k, s, last_ttc_input_m_,
                              d);
       } else {

@@ -326,13 +326,8 @@ corridor::CorridorOptions CalibrationBaseOptions(const corridor::CorridorOptions
     out.distance.ttc_cell_quantile = options.ttc_cell_quantile;
     out.distance.ttc_cell_nearest = options.ttc_cell_nearest;
   }
-  if (options.fit_distance && options.ttc_glance_scale != 1.0 && base.distance.ttc_glance_scale == 1.0) {
+  if (options.fit_distance && options.ttc_glance_scale != 1.0 && base.distance.ttc_glance_scale == 1.0)
     out.distance.ttc_glance_scale = options.ttc_glance_scale;
-    out.distance.ttc_glance_scale_far_only = options.ttc_glance_scale_far_only;
-    out.distance.ttc_fine_cell_px = options.ttc_fine_cell_px;
-    out.distance.ttc_fine_cell_nearest = options.ttc_fine_cell_nearest;
-    out.distance.ttc_fine_contrast_scaled = options.ttc_fine_contrast_scaled;
-  }
   return out;
 }
 

@@ -48,11 +48,9 @@ TEST(CalibrationBaseOptions, TtcGlanceScaleWrittenOnlyWhenTheBaseKeepsTheGlance)
   CalibrateOptions fit;
   EXPECT_TRUE(fit.ttc_glance_scales.empty());  // no choice by default (session 7)
   fit.ttc_glance_scale = 1.5;
-  fit.ttc_glance_scale_far_only = true;
   corridor::CorridorOptions base;
   const corridor::CorridorOptions out = CalibrationBaseOptions(base, fit);
   EXPECT_EQ(out.distance.ttc_glance_scale, 1.5);
-  EXPECT_TRUE(out.distance.ttc_glance_scale_far_only);
   base.distance.ttc_glance_scale = 2.0;  // the base's own scale stands
   EXPECT_EQ(CalibrationBaseOptions(base, fit).distance.ttc_glance_scale, 2.0);
   fit.ttc_glance_scales = {1.0, 5.0};

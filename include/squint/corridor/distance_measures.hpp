@@ -76,7 +76,7 @@ inline std::optional<ScaleMatch> ExpansionScale(const Glance& earlier, const Gla
 // Cells are visited nearest (cx, cy) first (ties in row-major order) and the result holds them
 // in that order; with max_cells > 0 the search stops after that many answered (the nearest
 // ones). None for a bad centre or window. At most kMaxTtcCells cells (no allocation).
-inline constexpr int kMaxTtcCells = 256;
+inline constexpr int kMaxTtcCells = 96;
 struct CellScales {
   std::array<double, kMaxTtcCells> scale{};
   std::array<double, kMaxTtcCells> radius_px{};  // of the cell's centre from the expansion centre
@@ -158,9 +158,6 @@ class TimeToContactDistance final : public DistanceMeasure {
     MeasureScale(TtcView(earlier), TtcView(current), baseline_frames, travelled_m, reference_m, out);
   }
   std::optional<double> Distance(double model_input) const override;
-  // Whether the scale search's window for the reference distance is at its minimum size in both
-  // directions (far from the end; false without intrinsics).
-  bool WindowAtMinimum(double reference_m) const;
 
  private:
   DistanceOptions options_;

@@ -279,20 +279,6 @@ struct DistanceOptions {
   // finer image resolves the end wall far away, where at 32×24 it is a few pixels, one cell.
   // Needs ttc_scale_search; ProcessGlance() has no frame and uses the glance.
   double ttc_glance_scale = 1.0;
-  // ... only before a first estimate and while the window is at its minimum size (far from the
-  // end, where the end wall is a few glance pixels); nearer, the glance.
-  bool ttc_glance_scale_far_only = false;
-  // Far-structure cells on the finer image: their size in glance pixels and how many nearest
-  // the expansion centre count (0 = ttc_cell_px / ttc_cell_nearest), so that far away the end
-  // wall, a few glance pixels, holds several cells.
-  double ttc_fine_cell_px = 0.0;
-  int ttc_fine_cell_nearest = 0;
-  // The contrast threshold on the finer image times the scale (its pixels' noise, a mean over
-  // fewer source pixels, is larger by that factor).
-  bool ttc_fine_contrast_scaled = false;
-  // No reading when the counted cells disagree: their interquartile range of magnification above
-  // this many times the estimate's expansion σ − 1 (0 = off).
-  double ttc_cell_max_spread = 0.0;
 
   // Fusion weight of cue `cue`'s estimate `dist_m`: weights[cue] / (1 + growth · max(0, dist_m))²
   // (error_growth_per_m above). The Perceiver's fusion, the eval's unfiltered average and the

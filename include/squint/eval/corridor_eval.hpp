@@ -164,10 +164,6 @@ struct CalibrateOptions {
   // fit's own run and written to the options unless the base options set one (then theirs);
   // 1 = keep the base's.
   double ttc_glance_scale = 1.0;
-  bool ttc_glance_scale_far_only = false;
-  double ttc_fine_cell_px = 0.0;
-  int ttc_fine_cell_nearest = 0;
-  bool ttc_fine_contrast_scaled = false;
   // Candidates for ttc_glance_scale that `squint calibrate` runs and fits in turn, keeping the
   // one whose time-to-contact cue has the lowest RMSE on the distance fusion's frames
   // (TtcCalibrationRmse; ties: the smaller scale; a candidate answering on fewer than 95 % of
