@@ -762,11 +762,11 @@ struct Renderer::Impl {
     const Obstacle& ob = world.obstacles[o];
     double tin, tout;
     int face = 0;
-    double ldx = dx, ldy = dy;
+    // The direction in the obstacle's frame, as the origin (lx, ly) is: for every shape, since a
+    // cylinder's hit point (its texture coordinate) and the origin must be in the same frame.
+    const double c = obs_c[o], s = obs_s[o];
+    const double ldx = c * dx + s * dy, ldy = -s * dx + c * dy;
     if (ob.shape == Obstacle::Shape::kBox) {
-      const double c = obs_c[o], s = obs_s[o];
-      ldx = c * dx + s * dy;
-      ldy = -s * dx + c * dy;
       double t0x, t1x, t0y, t1y;
       if (std::abs(ldx) < 1e-12) {
         if (std::abs(lx) > ob.half_x) return;
@@ -787,7 +787,7 @@ struct Renderer::Impl {
       if (tin > tout || tout <= 0) return;
       face = t0x > t0y ? (ldx > 0 ? 0 : 1) : (ldy > 0 ? 2 : 3);
     } else {
-      const double b = lx * dx + ly * dy;
+      const double b = lx * ldx + ly * ldy;
       const double cc = lx * lx + ly * ly - ob.radius * ob.radius;
       const double disc = b * b - cc;
       if (disc < 0) return;
