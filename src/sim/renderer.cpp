@@ -1759,6 +1759,29 @@ struct Renderer::Impl {
 #endif
 
 #ifdef SQUINT_RENDER_SIMD
+  // Tex(mat, u, v) of eight samples, with their materials' albedo and emission (lanes outside ok
+  // read nothing and give 0).
+  [[gnu::target("avx512f,avx512vl,avx512dq"), gnu::always_inline]] inline void TexMaterialSimd(
+      __m256i mat, __m512d u, __m512d v, __mmask8 ok, __m512d& texv, __m512d& albedo, __m512d& emission) const {
+    const __m512d big = _mm512_set1_pd(16777216.0), zero = _mm512_setzero_pd();
+    const __m256i m127 = _mm256_set1_epi32(detail::kTexSize - 1);
+    const double* mb = reinterpret_cast<const double*>(mats.data());
+    const float* tfb = reinterpret_cast<const float*>(texels_fast.data());
+    static_assert(sizeof(TexelsFast) == 16);
+    const __m256i m4 = _mm256_slli_epi32(mat, 2);
+    const __m512d inv = _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, m4, tfb + 2, 4));
+    const __m256 gain = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, m4, tfb + 3, 4);
+    const __m512i tp = _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), ok, _mm256_slli_epi32(mat, 1), texels_fast.data(), 8);
+    const __m256i iu = _mm256_and_si256(_mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(u, inv), big)), m127);
+    const __m256i iv = _mm256_and_si256(_mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(v, inv), big)), m127);
+    const __m512i addr = _mm512_add_epi64(tp, _mm512_cvtepi32_epi64(_mm256_add_epi32(_mm256_slli_epi32(iv, 7), iu)));
+    const __m256i texel = _mm256_and_si256(_mm512_mask_i64gather_epi32(_mm256_setzero_si256(), ok, addr, nullptr, 1), _mm256_set1_epi32(0xFF));
+    texv = _mm512_cvtps_pd(_mm256_mul_ps(_mm256_cvtepi32_ps(texel), gain));
+    const __m256i m3 = _mm256_mullo_epi32(mat, _mm256_set1_epi32(3));
+    albedo = _mm512_mask_i32gather_pd(zero, ok, m3, mb + offsetof(MatFast, albedo) / 8, 8);
+    emission = _mm512_mask_i32gather_pd(zero, ok, m3, mb + offsetof(MatFast, emission) / 8, 8);
+  }
+
   // PixelOnPlane's shading, eight samples per AVX-512 step, for the samples that Shade would
   // shade without a branch of its own: on the plane (finite r), the floor outside flat items,
   // the ceiling outside light panels, a wall that is no mirror (its decals tested in order).
@@ -1771,11 +1794,6 @@ struct Renderer::Impl {
     const float* soa = &sample_soa[pixel * nn * 4];
     const __m512d inf = _mm512_set1_pd(kInf), zero = _mm512_setzero_pd();
     const __m512d pxv = _mm512_set1_pd(px), pyv = _mm512_set1_pd(py);
-    const __m512d big = _mm512_set1_pd(16777216.0);
-    const __m256i m127 = _mm256_set1_epi32(detail::kTexSize - 1);
-    const double* mb = reinterpret_cast<const double*>(mats.data());
-    const float* tfb = reinterpret_cast<const float*>(texels_fast.data());
-    static_assert(sizeof(TexelsFast) == 16);
     bool wall_ok = false, wall_x = true;
     const WallLight* wl = nullptr;
     int wall_mat = 0, d_begin = 0, d_end = 0;
@@ -1818,19 +1836,8 @@ struct Renderer::Impl {
           mat = _mm256_srai_epi32(mats_w, 16);  // ceil_mat (high half)
         }
         if (ok) {
-          // Tex(mat, x, y)
-          const __m256i m4 = _mm256_slli_epi32(mat, 2);
-          const __m512d inv = _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, m4, tfb + 2, 4));
-          const __m256 gain = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, m4, tfb + 3, 4);
-          const __m512i tp = _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), ok, _mm256_slli_epi32(mat, 1), texels_fast.data(), 8);
-          const __m256i iu = _mm256_and_si256(_mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(x, inv), big)), m127);
-          const __m256i iv = _mm256_and_si256(_mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(y, inv), big)), m127);
-          const __m512i addr = _mm512_add_epi64(tp, _mm512_cvtepi32_epi64(_mm256_add_epi32(_mm256_slli_epi32(iv, 7), iu)));
-          const __m256i texel = _mm256_and_si256(_mm512_mask_i64gather_epi32(_mm256_setzero_si256(), ok, addr, nullptr, 1), _mm256_set1_epi32(0xFF));
-          const __m512d texv = _mm512_cvtps_pd(_mm256_mul_ps(_mm256_cvtepi32_ps(texel), gain));
-          const __m256i m3 = _mm256_mullo_epi32(mat, _mm256_set1_epi32(3));
-          const __m512d albedo = _mm512_mask_i32gather_pd(zero, ok, m3, mb + offsetof(MatFast, albedo) / 8, 8);
-          const __m512d emission = _mm512_mask_i32gather_pd(zero, ok, m3, mb + offsetof(MatFast, emission) / 8, 8);
+          __m512d texv, albedo, emission;
+          TexMaterialSimd(mat, x, y, ok, texv, albedo, emission);
           const __m512d irr = _mm512_cvtps_pd(irr_f);
           const __m512d e = surf == Surf::kFloor ? irr : _mm512_add_pd(_mm512_set1_pd(world.ambient), _mm512_mul_pd(_mm512_set1_pd(kCeilingBounce), irr));
           res = _mm512_add_pd(_mm512_mul_pd(_mm512_mul_pd(albedo, texv), e), emission);
@@ -1864,19 +1871,8 @@ struct Renderer::Impl {
         const __m256 c0 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, cell, wl->irr, 4);
         const __m256 c1 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, cell, wl->irr + 1, 4);
         const __m512d e = _mm512_add_pd(_mm512_cvtps_pd(c0), _mm512_mul_pd(_mm512_sub_pd(fu, _mm512_cvtepi32_pd(wiu)), _mm512_cvtps_pd(_mm256_sub_ps(c1, c0))));
-        // Tex(mat, tu, tv)
-        const __m256i m4 = _mm256_slli_epi32(mat, 2);
-        const __m512d inv = _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, m4, tfb + 2, 4));
-        const __m256 gain = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, m4, tfb + 3, 4);
-        const __m512i tp = _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), ok, _mm256_slli_epi32(mat, 1), texels_fast.data(), 8);
-        const __m256i iu = _mm256_and_si256(_mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(tu, inv), big)), m127);
-        const __m256i iv = _mm256_and_si256(_mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(tv, inv), big)), m127);
-        const __m512i addr = _mm512_add_epi64(tp, _mm512_cvtepi32_epi64(_mm256_add_epi32(_mm256_slli_epi32(iv, 7), iu)));
-        const __m256i texel = _mm256_and_si256(_mm512_mask_i64gather_epi32(_mm256_setzero_si256(), ok, addr, nullptr, 1), _mm256_set1_epi32(0xFF));
-        const __m512d texv = _mm512_cvtps_pd(_mm256_mul_ps(_mm256_cvtepi32_ps(texel), gain));
-        const __m256i m3 = _mm256_mullo_epi32(mat, _mm256_set1_epi32(3));
-        const __m512d albedo = _mm512_mask_i32gather_pd(zero, ok, m3, mb + offsetof(MatFast, albedo) / 8, 8);
-        const __m512d emission = _mm512_mask_i32gather_pd(zero, ok, m3, mb + offsetof(MatFast, emission) / 8, 8);
+        __m512d texv, albedo, emission;
+        TexMaterialSimd(mat, tu, tv, ok, texv, albedo, emission);
         res = _mm512_add_pd(_mm512_mul_pd(_mm512_mul_pd(albedo, texv), e), _mm512_mul_pd(emission, texv));
       } else {
         ok = 0;
