@@ -534,24 +534,11 @@ void TimeToContactDistance::MeasureScale(const TtcImage& earlier, const TtcImage
 }
 
 void SmoothGlance(const Glance& in, Glance& out) {
-  // Separable [1 2 1] / 4 in each direction; the border pixel is repeated.
-  std::array<std::uint16_t, kGlancePixels> rows{};
-  for (int v = 0; v < kH; ++v) {
-    const std::uint8_t* p = in.pixels.data() + v * kW;
-    std::uint16_t* r = rows.data() + v * kW;
-    for (int u = 0; u < kW; ++u) r[u] = p[std::max(u - 1, 0)] + 2 * p[u] + p[std::min(u + 1, kW - 1)];
-  }
-  for (int v = 0; v < kH; ++v) {
-    const std::uint16_t* a = rows.data() + std::max(v - 1, 0) * kW;
-    const std::uint16_t* b = rows.data() + v * kW;
-    const std::uint16_t* c = rows.data() + std::min(v + 1, kH - 1) * kW;
-    std::uint8_t* o = out.pixels.data() + v * kW;
-    for (int u = 0; u < kW; ++u) o[u] = static_cast<std::uint8_t>((a[u] + 2 * b[u] + c[u] + 8) / 16);
-  }
+  SmoothTtcImage(TtcView(in), out.pixels.data());
 }
 
 void SmoothTtcImage(const TtcImage& in, std::uint8_t* out) {
-  // As SmoothGlance, for any size.
+  // Separable [1 2 1] / 4 in each direction; the border pixel is repeated.
   const int w = in.width, h = in.height;
   std::array<std::uint16_t, kMaxTtcPixels> rows;
   for (int v = 0; v < h; ++v) {
