@@ -88,6 +88,9 @@ std::string ExplorerOptions::Validate() const {
   if (!(blind_view_fraction > 0.0 && blind_view_fraction <= 1.0)) return "blind_view_fraction must be in (0, 1]";
   if (!NonNegative(blind_view_entropy_ratio)) return "blind_view_entropy_ratio must be >= 0";
   if (!(blind_view_max_wall_lines >= 0.0 && blind_view_max_wall_lines <= 1.0)) return "blind_view_max_wall_lines must be in [0, 1]";
+  if (wall_axis_min_pairs < 1) return "wall_axis_min_pairs must be >= 1";
+  if (!(wall_axis_min_strength >= 0.0 && wall_axis_min_strength <= 1.0)) return "wall_axis_min_strength must be in [0, 1]";
+  if (!(wall_axis_gain > 0.0 && wall_axis_gain <= 1.0)) return "wall_axis_gain must be in (0, 1]";
   if (!Positive(side_window_m)) return "side_window_m must be positive";
   if (!Positive(side_wall_max_lateral_m)) return "side_wall_max_lateral_m must be positive";
   if (!NonNegative(branch_wall_before_m)) return "branch_wall_before_m must be >= 0";
@@ -200,6 +203,14 @@ void Explorer::UpdateSonar(const Percept& p) {
   sonar_seen_ = true;
   last_scan_yaw_ = p.odom_T_robot.yaw;
   last_wall_lines_ = p.sonar_wall_lines;
+}
+
+bool Explorer::WallAxis(double* axis_mod90) const {
+  if (!opt_.axis_from_walls || !sonar_seen_) return false;
+  double strength = 0.0;
+  int pairs = 0;
+  *axis_mod90 = memory_.WallAxisMod90(&strength, &pairs);
+  return pairs >= opt_.wall_axis_min_pairs && strength >= opt_.wall_axis_min_strength;
 }
 
 bool Explorer::UseBlocked(double yaw) const {
@@ -373,6 +384,12 @@ Command Explorer::ScanStep(const Percept& p) {
       }
       axis_mod = (sx != 0.0 || sy != 0.0) ? std::atan2(sy, sx) / 4.0 : centre;
     }
+    // The walls the memory holds outvote a glance axis that disagrees with them.
+    double wall_axis = 0.0;
+    if (WallAxis(&wall_axis)) {
+      if (!have_axis || std::abs(std::remainder(wall_axis - axis_mod, kPi / 2)) > DegToRad(10.0)) axis_mod = wall_axis;
+      have_axis = true;
+    }
     double best = -1.0;
     double best_yaw = scan_start_yaw_;
     if (have_axis) {
@@ -531,6 +548,15 @@ double Explorer::ReferenceEntropy() const {
 
 Command Explorer::FollowStep(const Percept& p) {
   UpdateAxis(p);
+  double wall_axis = 0.0;
+  if (p.sonar != nullptr && travel_in_corridor_m_ > 1.0 && WallAxis(&wall_axis)) {
+    // The walls the memory holds pull a drifted axis back (the glance's heading drifts at a T).
+    const double diff = std::remainder(wall_axis - axis_yaw_odom_, kPi / 2);
+    if (std::abs(diff) > DegToRad(8.0)) {
+      axis_yaw_odom_ = WrapPi(axis_yaw_odom_ + opt_.wall_axis_gain * diff);
+      map_yaw_offset_ = WrapPi(map_yaw_offset_ + opt_.wall_axis_gain * diff);
+    }
+  }
   if (p.processed && p.heading_deg && p.centre_heading_deg) {
     const double meas = std::clamp(*p.centre_heading_deg - *p.heading_deg, -30.0, 30.0);
     lateral_cue_deg_ = lateral_valid_ ? lateral_cue_deg_ + opt_.centre_filter * (meas - lateral_cue_deg_) : meas;
@@ -779,6 +805,15 @@ void Explorer::StartProbe() {
   look_count_ = 0;
   look_sum_ = 0.0;
   n_probes_ = 0;
+  // Before turning by odometry from the axis: the walls the memory holds outvote a drifted axis.
+  double wall_axis = 0.0;
+  if (WallAxis(&wall_axis)) {
+    const double diff = std::remainder(wall_axis - axis_yaw_odom_, kPi / 2);
+    if (std::abs(diff) > DegToRad(10.0)) {
+      axis_yaw_odom_ = WrapPi(axis_yaw_odom_ + diff);
+      map_yaw_offset_ = WrapPi(map_yaw_offset_ + diff);
+    }
+  }
   rot_ = Rotation{axis_yaw_odom_, 0};
 }
 

@@ -226,6 +226,24 @@ double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double 
   return free;
 }
 
+double ObstacleMemory::WallAxisMod90(double* strength, int* pairs) const {
+  double c = 0.0, s = 0.0;
+  int n = 0;
+  for (std::size_t i = 0; i < gathered_.size(); ++i)
+    for (std::size_t j = i + 1; j < gathered_.size(); ++j) {
+      const Eigen::Vector2d d = gathered_[j] - gathered_[i];
+      const double d2 = d.squaredNorm();
+      if (d2 < 0.04 || d2 > 0.36) continue;
+      const double a = 4.0 * std::atan2(d.y(), d.x());
+      c += std::cos(a);
+      s += std::sin(a);
+      ++n;
+    }
+  *pairs = n;
+  *strength = n > 0 ? std::hypot(c, s) / n : 0.0;
+  return n > 0 ? std::atan2(s, c) / 4.0 : 0.0;
+}
+
 void ObstacleMemory::SideDistances(const Pose2& odom_T_robot, double axis_yaw, double along_window_m,
                                    double max_lateral_m, double* left_m, double* right_m) const {
   const Eigen::Vector2d o = odom_T_robot.Translation();

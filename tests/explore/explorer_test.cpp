@@ -395,6 +395,8 @@ struct ScriptedSonar {
   std::vector<SonarColumn> scan;
   std::function<SonarReturn(double bearing_rad)> column = [](double) { return SonarReturn::kFar; };
   double boundary_m = 0.0;  // range of kBoundary columns
+  // When set, each column of a scan is made by this from the pose (overrides column/boundary_m).
+  std::function<void(const Pose2& pose, SonarColumn& c)> shape;
 
   Command Step(Explorer& e, bool apply = true) {
     Percept p;
@@ -412,6 +414,7 @@ struct ScriptedSonar {
         c.bearing_rad = DegToRad(30.0 - 60.0 * (i + 0.5) / 64.0);
         c.kind = column(c.bearing_rad);
         c.range_m = c.kind == SonarReturn::kFar ? 6.0 : c.kind == SonarReturn::kBoundary ? boundary_m : 0.0;
+        if (shape) shape(pose, c);
       }
       p.sonar = &scan;
       p.sonar_near_blind_m = 1.2;
@@ -537,6 +540,47 @@ TEST(Explorer, ScanDoesNotSetOffIntoAWallFillingTheView) {
       EXPECT_GT(yaw_deg, 60.0) << rule;
     } else {
       EXPECT_LT(yaw_deg, 20.0) << rule;
+    }
+  }
+}
+
+// The glance says the corridor runs along x (heading = yaw), the sonar sees its walls 2 m apart
+// along 20 degrees: with axis_from_walls the remembered walls pull the axis toward 20 degrees
+// (against the glance's filter: it settles between), without it the axis stays the glance's.
+TEST(Explorer, AxisFromWallsPullsTheAxisTowardTheRememberedWalls) {
+  for (const bool rule : {true, false}) {
+    ExplorerOptions o;
+    o.detect_branches = false;
+    o.axis_from_walls = rule;
+    Explorer e(o);
+    ScriptedSonar w;
+    const double t = DegToRad(20.0);
+    const Eigen::Vector2d n(-std::sin(t), std::cos(t));  // the walls: n . p = +-1
+    w.shape = [n](const Pose2& pose, SonarColumn& c) {
+      const Eigen::Vector2d from(pose.x, pose.y);
+      const Eigen::Vector2d d(std::cos(pose.yaw + c.bearing_rad), std::sin(pose.yaw + c.bearing_rad));
+      double r = 1e9;
+      for (const double side : {-1.0, 1.0}) {
+        const double dn = d.dot(n);
+        if (std::abs(dn) < 1e-9) continue;
+        const double k = (side - from.dot(n)) / dn;
+        if (k > 0.0) r = std::min(r, k);
+      }
+      c.kind = r <= 6.0 ? SonarReturn::kBoundary : SonarReturn::kFar;
+      c.range_m = std::min(r, 6.0);
+    };
+    ASSERT_TRUE(w.UntilFollowing(e)) << rule;
+    double axis_deg = 0.0;
+    for (int i = 0; i < 30 * 8 && w.pose.x < 3.0; ++i) {
+      w.Step(e);
+      axis_deg = RadToDeg(WrapPi(w.pose.yaw - DegToRad(e.HeadingEstimateDeg())));
+    }
+    EXPECT_GT(w.pose.x, 1.5) << rule;  // followed for more than the 1 m the rule waits
+    if (rule) {
+      EXPECT_GT(axis_deg, 3.0);
+      EXPECT_LT(axis_deg, 20.0);
+    } else {
+      EXPECT_LT(std::abs(axis_deg), 1.0);
     }
   }
 }

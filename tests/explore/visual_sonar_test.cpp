@@ -485,6 +485,55 @@ TEST(ObstacleMemory, BlockedNearStopsForwardTravelUnlessTheFloorThereWasSeen) {
 // A wall filling the view on blocked_view_scans consecutive scans stops forward travel even where
 // the floor in the blind zone was seen from farther back (a wall with the floor's grey lets the
 // sonar "see" floor through it); a single such scan does not (a view without floor contrast).
+// Two walls 2 m apart along direction theta, seen from between them in one scan (a column per
+// remembered point): the memory's wall axis is theta modulo 90 degrees, strongly; scattered points
+// give no direction.
+TEST(ObstacleMemory, WallAxisIsTheRememberedWallsDirectionModulo90) {
+  auto scan_of = [](const std::vector<Eigen::Vector2d>& pts) {
+    std::vector<SonarColumn> scan;
+    for (const Eigen::Vector2d& q : pts) {
+      SonarColumn c;
+      c.kind = SonarReturn::kBoundary;
+      c.bearing_rad = std::atan2(q.y(), q.x());
+      c.range_m = q.norm();
+      scan.push_back(c);
+    }
+    return scan;
+  };
+  for (const double theta_deg : {20.0, 70.0, -30.0}) {
+    const double t = DegToRad(theta_deg);
+    std::vector<Eigen::Vector2d> pts;
+    for (double x = -1.5; x <= 1.5; x += 0.1)
+      for (const double side : {-1.0, 1.0})
+        pts.emplace_back(std::cos(t) * x - std::sin(t) * side, std::sin(t) * x + std::cos(t) * side);
+    ObstacleMemory mem;
+    mem.Update(scan_of(pts), Pose2{}, 0.0, 1.2);
+    mem.Gather(Pose2{}, 0.1);
+    double strength = 0.0;
+    int pairs = 0;
+    const double axis = RadToDeg(mem.WallAxisMod90(&strength, &pairs));
+    const double expected = std::remainder(theta_deg, 90.0);  // 20, -20, -30
+    EXPECT_NEAR(axis, expected, 2.0) << theta_deg;
+    EXPECT_GT(strength, 0.8) << theta_deg;
+    EXPECT_GE(pairs, 40) << theta_deg;
+  }
+  // Scattered points (a fixed pseudo-random layout): no direction.
+  std::vector<Eigen::Vector2d> pts;
+  unsigned s = 12345u;
+  auto next = [&s] {
+    s = s * 1103515245u + 12345u;
+    return static_cast<double>((s >> 8) & 0xFFFF) / 65535.0;
+  };
+  for (int i = 0; i < 120; ++i) pts.emplace_back(-2.0 + 4.0 * next(), -2.0 + 4.0 * next());
+  ObstacleMemory mem;
+  mem.Update(scan_of(pts), Pose2{}, 0.0, 1.2);
+  mem.Gather(Pose2{}, 0.1);
+  double strength = 0.0;
+  int pairs = 0;
+  mem.WallAxisMod90(&strength, &pairs);
+  EXPECT_LT(strength, 0.4);
+}
+
 TEST(ObstacleMemory, WallFillingTheViewOnConsecutiveScansStopsDespiteFloorSeen) {
   const CameraModel cam = SonarCamera();
   std::vector<SonarColumn> blocked = WallScan(cam, 2.0);

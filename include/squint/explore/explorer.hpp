@@ -64,6 +64,19 @@ struct ExplorerOptions {
   // default's 45-minute route changes at its NW corner (coverage 0.85 on seed 1;
   // docs/explore.md, session 7).
   bool scan_skips_wall_views = false;
+  // The corridor axis checked against the walls the memory holds (ObstacleMemory::WallAxisMod90,
+  // trusted with at least wall_axis_min_pairs pairs and wall_axis_min_strength): a scan takes the
+  // walls' axis where the glance's differs from it by more than 10 degrees, a probe first snaps
+  // the axis to it when they differ by that much, and while following (after 1 m in the
+  // corridor) each sonar frame moves the axis by wall_axis_gain of a difference above 8 degrees.
+  // The glance's heading drifts 15-35 degrees near corridor-9's T (start 5 cut the mouth's corner)
+  // and a re-scan at default's NW corner found the diagonals. Off by default: corridor-9 start 5
+  // then replays without collision and default's seed-2 coverage is 1.00, but seed 1's is 0.85
+  // (docs/explore.md, session 7).
+  bool axis_from_walls = false;
+  int wall_axis_min_pairs = 40;
+  double wall_axis_min_strength = 0.6;
+  double wall_axis_gain = 0.2;
   double scan_rate_rps = 0.6;
   // Axis re-acquisition: after this many consecutive outlier innovations, the axis is reset to
   // their median (the corridor frame was lost).
@@ -253,6 +266,9 @@ class Explorer {
   bool OnOpening(const Percept& p, int side, double width_m);
   void StartProbe();
   double ReferenceEntropy() const;
+  // The remembered walls' axis modulo 90 degrees (odometry frame), when axis_from_walls is on and
+  // the memory holds enough of them.
+  bool WallAxis(double* axis_mod90) const;
   void Emit(ExploreEvent::Kind kind, const Percept& p, int turn_deg, const std::string& note);
   // Sonar: memory update, and the last word on every command (speed limit).
   void UpdateSonar(const Percept& p);

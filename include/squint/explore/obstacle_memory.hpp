@@ -77,6 +77,12 @@ class ObstacleMemory {
   void SideDistances(const Pose2& odom_T_robot, double axis_yaw, double along_window_m, double max_lateral_m,
                      double* left_m, double* right_m) const;
   const std::vector<Eigen::Vector2d>& Gathered() const { return gathered_; }
+  // The dominant direction of the gathered points' wall lines modulo 90 degrees (radians in
+  // (-pi/4, pi/4], odometry frame), from every pair of gathered points 0.2-0.6 m apart: the mean
+  // of 4x their directions. `strength`: that mean's resultant length (1: all pairs parallel or
+  // perpendicular to the result, near 0: no direction); `pairs`: how many pairs. Quadratic in the
+  // gathered points.
+  double WallAxisMod90(double* strength, int* pairs) const;
   void Clear();
   // Removes remembered boundaries (and soft points) along the rays of the scan's unknown columns
   // out to to_m, without marking any floor as seen (the explorer's blind views: a corridor in the
