@@ -18,6 +18,7 @@ std::string VisualSonarOptions::Validate() const {
   if (median_half_width < 0 || median_half_width > 8) return "median_half_width must be in [0, 8]";
   if (column_half_width < 0 || column_half_width > 4) return "column_half_width must be in [0, 4]";
   if (median_near_bias < 0 || median_near_bias > 8) return "median_near_bias must be in [0, 8]";
+  if (!(median_near_range_m >= 0.0) || !std::isfinite(median_near_range_m)) return "median_near_range_m must be >= 0";
   if (!(floor_memory >= 0.0 && floor_memory < 1.0)) return "floor_memory must be in [0, 1)";
   if (!(floor_sigma_factor >= 0.0) || !std::isfinite(floor_sigma_factor)) return "floor_sigma_factor must be >= 0";
   if (!(max_range_m > 0.0) || !std::isfinite(max_range_m)) return "max_range_m must be positive";
@@ -262,11 +263,13 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
     for (int x = u0; x <= u1; ++x) window_[static_cast<std::size_t>(n++)] = raw_[static_cast<std::size_t>(x)];
     std::nth_element(window_.begin(), window_.begin() + n / 2, window_.begin() + n);
     double r = window_[static_cast<std::size_t>(n / 2)];
-    // Blocked near wins one rank early (a wall corner beside far floor: see median_near_bias).
+    // Blocked near, and a boundary nearer than median_near_range_m, win one rank early (a wall
+    // corner beside far floor, a chair leg close by: see median_near_bias).
     if (options_.median_near_bias > 0 && r > 0.0) {
       const int k = std::max(0, n / 2 - options_.median_near_bias);
       std::nth_element(window_.begin(), window_.begin() + k, window_.begin() + n / 2);
       if (window_[static_cast<std::size_t>(k)] <= 0.0) r = 0.0;
+      else if (window_[static_cast<std::size_t>(k)] < options_.median_near_range_m) r = window_[static_cast<std::size_t>(k)];
     }
     SonarColumn& c = out_[static_cast<std::size_t>(u)];
     c.bearing_rad = bearing_[static_cast<std::size_t>(u)];

@@ -260,6 +260,44 @@ TEST(VisualSonar, NearBiasedMedianKeepsTheNearSideOfATransition) {
   EXPECT_GE(out[41].range_m, std::min(c.RangeAt(38, 30), c.RangeAt(45, 30)) - 1e-9);  // voted out
 }
 
+// A post 3 columns wide standing on the floor near the robot (a chair leg), far floor beside it:
+// the plain median over 7 columns votes it out; a boundary nearer than median_near_range_m wins
+// one rank early, so the post's column reads the post's range. Beyond that range it is voted out
+// either way (texture steps), and the option is validated.
+TEST(VisualSonar, ThinPostCloseByWinsOneRankEarly) {
+  CameraModel cam = SonarCamera();
+  cam.pitch_deg = -10.0;  // floor from about 0.86 m in view
+  Image im = FloorWall(std::vector<int>(64, 30));
+  auto post = [&](int row) {
+    for (int u = 40; u <= 42; ++u)
+      for (int v = 0; v <= row; ++v) im.At(u, v) = 120;
+  };
+  post(42);
+  VisualSonarOptions on;
+  on.column_half_width = 0;
+  VisualSonarOptions off = on;
+  off.median_near_range_m = 0.0;
+  VisualSonar a(cam, on), b(cam, off);
+  // Readings are some column's range of that row within the median's 7 columns (38-44).
+  auto span = [&](int row, double r) {
+    double lo = 1e9, hi = 0.0;
+    for (int u = 38; u <= 44; ++u) lo = std::min(lo, a.RangeAt(u, row)), hi = std::max(hi, a.RangeAt(u, row));
+    return r >= lo - 1e-9 && r <= hi + 1e-9;
+  };
+  ASSERT_LT(a.RangeAt(41, 42), on.median_near_range_m - 0.05);
+  EXPECT_TRUE(span(42, a.Process(im.View())[41].range_m)) << a.Process(im.View())[41].range_m;
+  EXPECT_TRUE(span(30, b.Process(im.View())[41].range_m)) << b.Process(im.View())[41].range_m;
+  // The same post 1.5 m away: voted out with the option too.
+  im = FloorWall(std::vector<int>(64, 30));
+  int far_row = 47;
+  while (far_row > 30 && a.RangeAt(41, far_row) < 1.5) --far_row;
+  post(far_row);
+  EXPECT_TRUE(span(30, a.Process(im.View())[41].range_m)) << a.Process(im.View())[41].range_m;
+  VisualSonarOptions bad;
+  bad.median_near_range_m = -1.0;
+  EXPECT_NE(bad.Validate(), "");
+}
+
 // A wall filling the view with a bright line at the horizon in a few columns (a mortar course):
 // those columns read far, but 5 of them are too few for a floor reference, so the rest stays
 // blocked near (not "unknown", which would let the robot drive into the wall).

@@ -26,6 +26,10 @@ struct VisualSonarOptions {
   // many columns farther, so no column there reads the floor beyond the corner (the memory would
   // clear the corner along that ray). Boundaries and far keep the plain median (texture).
   int median_near_bias = 1;
+  // A boundary nearer than this (m) wins the same rank early (0 turns it off): a chair leg 4 cm
+  // thick 0.7-1.2 m away spans 2-4 columns, which the plain median votes out; within this range
+  // the robot must see it. Floor texture that close and 3 columns wide reads as standing too.
+  double median_near_range_m = 1.2;
   double max_range_m = 6.0;      // boundaries farther than this (or at the horizon) read as far
   // Columns without a step are told apart (blocked near / unknown) by the floor of the columns
   // with a step; fewer such columns than this: no reference (blocked near).
