@@ -60,20 +60,20 @@ struct ExplorerOptions {
   // were mostly a wall filling the view (blocked near across it, the glance entropy below the
   // blind-view threshold): such a wall stands inside the blind range and is never remembered, so
   // the memory alone finds that direction the freest (corridor-6 start 2, 0.1 m from a wall,
-  // set off into it). Off by default: corridor-6 start 2 then replays without collision, but
-  // default's 45-minute route changes at its NW corner (coverage 0.85 on seed 1;
-  // docs/explore.md, session 7).
-  bool scan_skips_wall_views = false;
+  // set off into it). On by default since session 7, with axis_from_walls and
+  // trust_memory_max_wall_lines (alone it moved default's 45-minute route at its NW corner to
+  // coverage 0.85 on seed 1; the three together: seeded starts 119/120 and 114/120 on seeds 1 and
+  // 2, default coverage 1.00 on both; docs/explore.md, session 7).
+  bool scan_skips_wall_views = true;
   // The corridor axis checked against the walls the memory holds (ObstacleMemory::WallAxisMod90,
   // trusted with at least wall_axis_min_pairs pairs and wall_axis_min_strength): a scan takes the
   // walls' axis where the glance's differs from it by more than 10 degrees, a probe first snaps
   // the axis to it when they differ by that much, and while following (after 1 m in the
   // corridor) each sonar frame moves the axis by wall_axis_gain of a difference above 8 degrees.
   // The glance's heading drifts 15-35 degrees near corridor-9's T (start 5 cut the mouth's corner)
-  // and a re-scan at default's NW corner found the diagonals. Off by default: corridor-9 start 5
-  // then replays without collision and default's seed-2 coverage is 1.00, but seed 1's is 0.85
-  // (docs/explore.md, session 7).
-  bool axis_from_walls = false;
+  // and a re-scan at default's NW corner found the diagonals. On by default since session 7 (see
+  // scan_skips_wall_views; alone: default's seed-2 coverage 1.00 but seed 1's 0.85).
+  bool axis_from_walls = true;
   int wall_axis_min_pairs = 40;
   double wall_axis_min_strength = 0.6;
   double wall_axis_gain = 0.2;
@@ -129,10 +129,10 @@ struct ExplorerOptions {
   double trust_memory_after_m = 1.6;
   // ...but not when the latest scan's frame shows wall lines (VisualSonar::WallLineFraction, brick
   // mortar) in at least this fraction of its bands: a brick wall ahead, whose base the sonar may
-  // have read as floor from farther back. 0 turns it off. Off by default: 0.375 and 0.625 fix
-  // corridor-9 start 2 but cost corridor-1 start 7 or corridor-9 start 7 (116/120 either way;
-  // docs/explore.md, session 6).
-  double trust_memory_max_wall_lines = 0.0;
+  // have read as floor from farther back. 0 turns it off. On (0.375) since session 7 with
+  // scan_skips_wall_views and axis_from_walls; alone 0.375 and 0.625 fixed corridor-9 start 2 but
+  // cost corridor-1 start 7 or corridor-9 start 7 (116/120 either way; docs/explore.md, session 6).
+  double trust_memory_max_wall_lines = 0.375;
   // A sonar view whose columns are nearly all blocked near (at least blind_view_fraction) is either
   // a wall filling the view or a floor without any contrast to the walls (default's carpeted
   // middle corridor, corridor-2). The glance tells them apart: looking down a corridor its entropy
