@@ -1529,6 +1529,34 @@ struct Renderer::Impl {
     return _mm512_mask_blend_pd(ok, _mm512_set1_pd(kInf), t);
   }
 
+  // GridIndex for eight floor points, in floats from the start of `cells` (the cell's words).
+  [[gnu::target("avx512f,avx512vl,avx512dq"), gnu::always_inline]] inline __m256i GridWord8(__m512d x, __m512d y) const {
+    static_assert(sizeof(Cell) % sizeof(float) == 0);
+    constexpr int kCellStride = sizeof(Cell) / sizeof(float);
+    __m256i gi = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_sub_pd(x, _mm512_set1_pd(gx0)), _mm512_set1_pd(1.0 / kCell)));
+    __m256i gj = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_sub_pd(y, _mm512_set1_pd(gy0)), _mm512_set1_pd(1.0 / kCell)));
+    gi = _mm256_min_epi32(_mm256_max_epi32(gi, _mm256_setzero_si256()), _mm256_set1_epi32(gnx - 1));
+    gj = _mm256_min_epi32(_mm256_max_epi32(gj, _mm256_setzero_si256()), _mm256_set1_epi32(gny - 1));
+    return _mm256_mullo_epi32(_mm256_add_epi32(_mm256_mullo_epi32(gj, _mm256_set1_epi32(gnx)), gi), _mm256_set1_epi32(kCellStride));
+  }
+
+  // WallIrradiance for eight points (along, z) of the wall lit by `wl` (lanes outside m read
+  // nothing).
+  [[gnu::target("avx512f,avx512vl,avx512dq"), gnu::always_inline]] inline __m512d WallIrradiance8(const WallLight& wl, __m512d along,
+                                                                                                __m512d z, __mmask8 m) const {
+    const __m512d zero = _mm512_setzero_pd(), wall_s = _mm512_set1_pd(1.0 / kWallCell), fmax = _mm512_set1_pd(wl.fu_max);
+    __m512d fu = _mm512_mul_pd(_mm512_sub_pd(along, _mm512_set1_pd(wl.lo)), wall_s);
+    fu = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(fu, zero, _CMP_LT_OQ), fu, zero);
+    fu = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(fmax, fu, _CMP_LT_OQ), fu, fmax);
+    const __m256i iu = _mm512_cvttpd_epi32(fu);
+    __m256i iz = _mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(z, wall_s), _mm512_set1_pd(0.5)));
+    iz = _mm256_min_epi32(_mm256_max_epi32(iz, _mm256_setzero_si256()), _mm256_set1_epi32(wl.nz - 1));
+    const __m256i cell = _mm256_add_epi32(_mm256_mullo_epi32(iz, _mm256_set1_epi32(wl.nu)), iu);
+    const __m256 c0 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), m, cell, wl.irr, 4);
+    const __m256 c1 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), m, cell, wl.irr + 1, 4);
+    return _mm512_add_pd(_mm512_cvtps_pd(c0), _mm512_mul_pd(_mm512_sub_pd(fu, _mm512_cvtepi32_pd(iu)), _mm512_cvtps_pd(_mm256_sub_ps(c1, c0))));
+  }
+
   // PixelPlanes' first two passes for pixel `pixel` (n * n a multiple of 8), eight samples per
   // AVX-512 step: each sample's hit and slot (sdx .. sq, count) and each plain plane's sums (acc),
   // with the scalar code's operations per lane. false: the pixel must be traced in full.
@@ -1632,29 +1660,11 @@ struct Renderer::Impl {
           const __m512d z = _mm512_add_pd(_mm512_set1_pd(cam_h), _mm512_mul_pd(k, r));
           tu = wf[wid].along_x ? x : y;
           tv = z;
-          // WallIrradiance
-          __m512d fu = _mm512_mul_pd(_mm512_sub_pd(tu, _mm512_set1_pd(wl.lo)), _mm512_set1_pd(1.0 / kWallCell));
-          fu = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(fu, zero, _CMP_LT_OQ), fu, zero);
-          const __m512d fmax = _mm512_set1_pd(wl.fu_max);
-          fu = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(fmax, fu, _CMP_LT_OQ), fu, fmax);
-          const __m256i iu = _mm512_cvttpd_epi32(fu);
-          __m256i iz = _mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(z, _mm512_set1_pd(1.0 / kWallCell)), _mm512_set1_pd(0.5)));
-          iz = _mm256_min_epi32(_mm256_max_epi32(iz, _mm256_setzero_si256()), _mm256_set1_epi32(wl.nz - 1));
-          const __m256i cell = _mm256_add_epi32(_mm256_mullo_epi32(iz, _mm256_set1_epi32(wl.nu)), iu);
-          const __m256 c0 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), m, cell, wl.irr, 4);
-          const __m256 c1 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), m, cell, wl.irr + 1, 4);
-          ev = _mm512_add_pd(_mm512_cvtps_pd(c0), _mm512_mul_pd(_mm512_sub_pd(fu, _mm512_cvtepi32_pd(iu)), _mm512_cvtps_pd(_mm256_sub_ps(c1, c0))));
+          ev = WallIrradiance8(wl, tu, z, m);
         } else {
           tu = x;
           tv = y;
-          // GridIndex
-          __m256i gi = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_sub_pd(x, _mm512_set1_pd(gx0)), _mm512_set1_pd(1.0 / kCell)));
-          __m256i gj = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_sub_pd(y, _mm512_set1_pd(gy0)), _mm512_set1_pd(1.0 / kCell)));
-          gi = _mm256_min_epi32(_mm256_max_epi32(gi, _mm256_setzero_si256()), _mm256_set1_epi32(gnx - 1));
-          gj = _mm256_min_epi32(_mm256_max_epi32(gj, _mm256_setzero_si256()), _mm256_set1_epi32(gny - 1));
-          static_assert(sizeof(Cell) % sizeof(float) == 0);
-          constexpr int kCellStride = sizeof(Cell) / sizeof(float);
-          const __m256i gidx = _mm256_mullo_epi32(_mm256_add_epi32(_mm256_mullo_epi32(gj, _mm256_set1_epi32(gnx)), gi), _mm256_set1_epi32(kCellStride));
+          const __m256i gidx = GridWord8(x, y);
           const __m512d irr = _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), m, gidx, &cells[0].irr, 4));
           ev = psurf == Surf::kCeiling ? _mm512_add_pd(_mm512_set1_pd(world.ambient), _mm512_mul_pd(_mm512_set1_pd(kCeilingBounce), irr)) : irr;
         }
@@ -1694,13 +1704,10 @@ struct Renderer::Impl {
     const __m512d z0 = _mm512_set1_pd(gz[0]), z20 = _mm512_set1_pd(gz[2] - gz[0]), z1 = _mm512_set1_pd(gz[1]), z31 = _mm512_set1_pd(gz[3] - gz[1]);
     const __m512d hv = _mm512_set1_pd(h_rel), pxv = _mm512_set1_pd(px), pyv = _mm512_set1_pd(py), camz = _mm512_set1_pd(cam_h);
     const __m512d wcp = _mm512_set1_pd(wall_c - wall_p), wav = _mm512_set1_pd(wall_a);
-    const __m512d gxv = _mm512_set1_pd(gx0), gyv = _mm512_set1_pd(gy0), cell_s = _mm512_set1_pd(1.0 / kCell);
-    const __m512d wlo = _mm512_set1_pd(wl.lo), wall_s = _mm512_set1_pd(1.0 / kWallCell), fmax = _mm512_set1_pd(wl.fu_max);
     __m512d pul = inf, puh = ninf, pvl = inf, pvh = ninf, wul = inf, wuh = ninf, wvl = inf, wvh = ninf;
     double pev[kMaxSamples], wev[kMaxSamples];
     std::uint32_t on_bits[kMaxSamples / 8];
     int on_plane = 0;
-    constexpr int kCellStride = sizeof(Cell) / sizeof(float);
     for (int i0 = 0; i0 < nn; i0 += 8) {
       const __m512d fx = _mm512_loadu_pd(&split_fx[i0]), fy = _mm512_loadu_pd(&split_fy[i0]);
       // Per row (fy) the left and right ends, then along the row (fx), as the scalar loop steps.
@@ -1720,11 +1727,7 @@ struct Renderer::Impl {
         const __m512d x = _mm512_add_pd(pxv, _mm512_mul_pd(t, sdx)), y = _mm512_add_pd(pyv, _mm512_mul_pd(t, sdy));
         pul = _mm512_mask_min_pd(pul, on, pul, x), puh = _mm512_mask_max_pd(puh, on, puh, x);
         pvl = _mm512_mask_min_pd(pvl, on, pvl, y), pvh = _mm512_mask_max_pd(pvh, on, pvh, y);
-        __m256i gi = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_sub_pd(x, gxv), cell_s));
-        __m256i gj = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_sub_pd(y, gyv), cell_s));
-        gi = _mm256_min_epi32(_mm256_max_epi32(gi, _mm256_setzero_si256()), _mm256_set1_epi32(gnx - 1));
-        gj = _mm256_min_epi32(_mm256_max_epi32(gj, _mm256_setzero_si256()), _mm256_set1_epi32(gny - 1));
-        const __m256i gidx = _mm256_mullo_epi32(_mm256_add_epi32(_mm256_mullo_epi32(gj, _mm256_set1_epi32(gnx)), gi), _mm256_set1_epi32(kCellStride));
+        const __m256i gidx = GridWord8(x, y);
         _mm512_storeu_pd(pev + i0, _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), on, gidx, &cells[0].irr, 4)));
       }
       if (off) {  // the wall
@@ -1733,17 +1736,7 @@ struct Renderer::Impl {
         const __m512d along = _mm512_add_pd(wav, _mm512_mul_pd(t, other)), z = _mm512_add_pd(camz, _mm512_mul_pd(t, sdz));
         wul = _mm512_mask_min_pd(wul, off, wul, along), wuh = _mm512_mask_max_pd(wuh, off, wuh, along);
         wvl = _mm512_mask_min_pd(wvl, off, wvl, z), wvh = _mm512_mask_max_pd(wvh, off, wvh, z);
-        __m512d fu = _mm512_mul_pd(_mm512_sub_pd(along, wlo), wall_s);
-        fu = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(fu, zero, _CMP_LT_OQ), fu, zero);
-        fu = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(fmax, fu, _CMP_LT_OQ), fu, fmax);
-        const __m256i iu = _mm512_cvttpd_epi32(fu);
-        __m256i iz = _mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(z, wall_s), _mm512_set1_pd(0.5)));
-        iz = _mm256_min_epi32(_mm256_max_epi32(iz, _mm256_setzero_si256()), _mm256_set1_epi32(wl.nz - 1));
-        const __m256i cell = _mm256_add_epi32(_mm256_mullo_epi32(iz, _mm256_set1_epi32(wl.nu)), iu);
-        const __m256 c0 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), off, cell, wl.irr, 4);
-        const __m256 c1 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), off, cell, wl.irr + 1, 4);
-        _mm512_storeu_pd(wev + i0, _mm512_add_pd(_mm512_cvtps_pd(c0), _mm512_mul_pd(_mm512_sub_pd(fu, _mm512_cvtepi32_pd(iu)),
-                                                                                  _mm512_cvtps_pd(_mm256_sub_ps(c1, c0)))));
+        _mm512_storeu_pd(wev + i0, WallIrradiance8(wl, along, z, off));
       }
     }
     double pe_sum = 0, we_sum = 0;
@@ -1806,7 +1799,6 @@ struct Renderer::Impl {
       wall_ok = mats[wall_mat].mirror <= 0;
       for (int i = d_begin; i < d_end; ++i) wall_ok = wall_ok && mats[decals[i].material].mirror <= 0;
     }
-    constexpr int kCellStride = sizeof(Cell) / sizeof(float);
     static_assert(sizeof(Cell) == 16 && offsetof(Cell, floor_mat) == 4 && offsetof(Cell, ceil_mat) == 6 &&
                   offsetof(Cell, flat) == 8 && offsetof(Cell, light) == 12);
     const int* cell_words = reinterpret_cast<const int*>(cells.data());
@@ -1818,11 +1810,7 @@ struct Renderer::Impl {
       __m512d res = zero;
       if (surf == Surf::kFloor || surf == Surf::kCeiling) {
         // GridIndex and the cell's words
-        __m256i gi = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_sub_pd(x, _mm512_set1_pd(gx0)), _mm512_set1_pd(1.0 / kCell)));
-        __m256i gj = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_sub_pd(y, _mm512_set1_pd(gy0)), _mm512_set1_pd(1.0 / kCell)));
-        gi = _mm256_min_epi32(_mm256_max_epi32(gi, _mm256_setzero_si256()), _mm256_set1_epi32(gnx - 1));
-        gj = _mm256_min_epi32(_mm256_max_epi32(gj, _mm256_setzero_si256()), _mm256_set1_epi32(gny - 1));
-        const __m256i cw4 = _mm256_mullo_epi32(_mm256_add_epi32(_mm256_mullo_epi32(gj, _mm256_set1_epi32(gnx)), gi), _mm256_set1_epi32(kCellStride));
+        const __m256i cw4 = GridWord8(x, y);
         const __m256 irr_f = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, cw4, &cells[0].irr, 4);
         const __m256i mats_w = _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), ok, _mm256_add_epi32(cw4, _mm256_set1_epi32(1)), cell_words, 4);
         __m256i mat;
@@ -1859,18 +1847,7 @@ struct Renderer::Impl {
           tv = _mm512_mask_blend_pd(in, tv, _mm512_sub_pd(_mm512_set1_pd(dc.z1), z));
           free &= static_cast<__mmask8>(~in);
         }
-        // WallIrradiance
-        __m512d fu = _mm512_mul_pd(_mm512_sub_pd(along, _mm512_set1_pd(wl->lo)), _mm512_set1_pd(1.0 / kWallCell));
-        fu = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(fu, zero, _CMP_LT_OQ), fu, zero);
-        const __m512d fmax = _mm512_set1_pd(wl->fu_max);
-        fu = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(fmax, fu, _CMP_LT_OQ), fu, fmax);
-        const __m256i wiu = _mm512_cvttpd_epi32(fu);
-        __m256i wiz = _mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(z, _mm512_set1_pd(1.0 / kWallCell)), _mm512_set1_pd(0.5)));
-        wiz = _mm256_min_epi32(_mm256_max_epi32(wiz, _mm256_setzero_si256()), _mm256_set1_epi32(wl->nz - 1));
-        const __m256i cell = _mm256_add_epi32(_mm256_mullo_epi32(wiz, _mm256_set1_epi32(wl->nu)), wiu);
-        const __m256 c0 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, cell, wl->irr, 4);
-        const __m256 c1 = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, cell, wl->irr + 1, 4);
-        const __m512d e = _mm512_add_pd(_mm512_cvtps_pd(c0), _mm512_mul_pd(_mm512_sub_pd(fu, _mm512_cvtepi32_pd(wiu)), _mm512_cvtps_pd(_mm256_sub_ps(c1, c0))));
+        const __m512d e = WallIrradiance8(*wl, along, z, ok);
         __m512d texv, albedo, emission;
         TexMaterialSimd(mat, tu, tv, ok, texv, albedo, emission);
         res = _mm512_add_pd(_mm512_mul_pd(_mm512_mul_pd(albedo, texv), e), _mm512_mul_pd(emission, texv));
