@@ -464,25 +464,22 @@ void TimeToContactDistance::MeasureScale(const TtcImage& earlier, const TtcImage
                                          DistanceMeasureResult& out) const {
   Clear(out, Cue());
   out.baseline_frames = baseline_frames;
-  const std::size_t n_px = static_cast<std::size_t>(current.width) * static_cast<std::size_t>(current.height);
-  if (earlier.width == current.width && earlier.height == current.height &&
-      std::equal(earlier.data, earlier.data + n_px, current.data))
-    return SetNoEstimate(out, Reason::kIdenticalFrames);
   if (earlier.width != current.width || earlier.height != current.height)
     return SetNoEstimate(out, Reason::kNoPreviousFrame);
+  const std::size_t n_px = static_cast<std::size_t>(current.width) * static_cast<std::size_t>(current.height);
+  if (std::equal(earlier.data, earlier.data + n_px, current.data)) return SetNoEstimate(out, Reason::kIdenticalFrames);
   // The geometry in this image's pixels: the glance's (cx_, cy_, focal_px_ and the options'
-  // sizes in glance pixels) scaled by the image's size over the glance's (exactly the glance's
-  // for a 32×24 image).
+  // sizes in glance pixels) scaled by the image's size over the glance's (fx = fy = 1 for a
+  // 32×24 image: the products are exact; the centre keeps cx_, cy_ themselves).
   const bool glance_size = current.width == kW && current.height == kH;
-  const double fx = glance_size ? 1.0 : static_cast<double>(current.width) / kW;
-  const double fy = glance_size ? 1.0 : static_cast<double>(current.height) / kH;
+  const double fx = static_cast<double>(current.width) / kW;
+  const double fy = static_cast<double>(current.height) / kH;
   const double cx = glance_size ? cx_ : (cx_ + 0.5) * fx - 0.5;
   const double cy = glance_size ? cy_ : (cy_ + 0.5) * fy - 0.5;
-  const double focal = glance_size ? focal_px_ : focal_px_ * fx;
+  const double focal = focal_px_ * fx;
   const double img_w = current.width, img_h = current.height;
-  const double min_w = std::min(glance_size ? options_.ttc_window_min_px : options_.ttc_window_min_px * fx, img_w);
-  const double min_h =
-      std::min(glance_size ? options_.ttc_window_min_height_px : options_.ttc_window_min_height_px * fy, img_h);
+  const double min_w = std::min(options_.ttc_window_min_px * fx, img_w);
+  const double min_h = std::min(options_.ttc_window_min_height_px * fy, img_h);
   double half_w = options_.ttc_whole_glance_first ? img_w : min_w;
   double half_h = options_.ttc_whole_glance_first ? img_h : min_h;
   if (reference_m && *reference_m > 0.0 && focal > 0.0) {
@@ -518,7 +515,7 @@ void TimeToContactDistance::MeasureScale(const TtcImage& earlier, const TtcImage
             ? options_.ttc_cell_nearest
             : 0;
     // The cell size in this image's pixels (ttc_cell_px is in glance pixels).
-    const double cell_px = glance_size ? options_.ttc_cell_px : options_.ttc_cell_px * std::sqrt(fx * fy);
+    const double cell_px = options_.ttc_cell_px * std::sqrt(fx * fy);
     std::optional<CellScales> cells = CellExpansionScales(
         earlier, current, cx, cy, half_w, half_h, options_.ttc_max_scale, m->scale, cell_px,
         options_.ttc_min_contrast, options_.ttc_min_ncc, options_.ttc_cell_max_se_fraction * expected, max_cells);
@@ -555,16 +552,6 @@ void SmoothTtcImage(const TtcImage& in, std::uint8_t* out) {
   }
 }
 
-namespace {
-
-inline double GreyOf(const std::uint8_t* row, int u, int channels) {
-  if (channels == 1) return row[u];
-  const std::uint8_t* p = row + u * channels;  // BGR(A), as MakeGlance
-  return static_cast<double>((29u * p[0] + 150u * p[1] + 77u * p[2] + 128u) >> 8);
-}
-
-}  // namespace
-
 void MakeAreaImage(const PixelView& frame, int width, int height, std::uint8_t* out) {
   SQUINT_ENSURE(!frame.Empty(), "MakeAreaImage needs a non-empty frame");
   SQUINT_ENSURE(frame.channels == 1 || frame.channels == 3 || frame.channels == 4,
@@ -585,7 +572,7 @@ void MakeAreaImage(const PixelView& frame, int width, int height, std::uint8_t* 
         const std::uint8_t* row = frame.data + r * frame.stride;
         double line = 0.0;
         for (int c = c0; c < c1; ++c)
-          line += (std::min<double>(c + 1, x1) - std::max<double>(c, x0)) * GreyOf(row, c, frame.channels);
+          line += (std::min<double>(c + 1, x1) - std::max<double>(c, x0)) * GreyAt(row, c, frame.channels);
         sum += wy * line;
       }
       out[v * width + u] = static_cast<std::uint8_t>(std::clamp(std::floor(sum / (sx * sy) + 0.5), 0.0, 255.0));

@@ -6,16 +6,6 @@
 #include "squint/core/error.hpp"
 
 namespace squint::corridor {
-namespace {
-
-inline std::uint8_t GreyAt(const std::uint8_t* row, int u, int channels) {
-  if (channels == 1) return row[u];
-  const std::uint8_t* p = row + u * channels;  // BGR(A)
-  return static_cast<std::uint8_t>((29u * p[0] + 150u * p[1] + 77u * p[2] + 128u) >> 8);
-}
-
-}  // namespace
-
 void MakeGlance(const PixelView& frame, GlanceSampling sampling, Glance& out) {
   SQUINT_ENSURE(!frame.Empty(), "MakeGlance needs a non-empty frame");
   SQUINT_ENSURE(frame.channels == 1 || frame.channels == 3 || frame.channels == 4,

@@ -344,7 +344,6 @@ void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlanc
                                  PerceptionResult& result) {
   const DistanceOptions& o = options_.distance;
   const int n_hist = kHistorySize;
-  const int history_count = history_count_;
   for (int i = 0; i < kDistanceCueCount; ++i) {
     DistanceMeasureResult& d = result.distance[i];
     if (!o.enabled[i] || o.weights[i] <= 0.0) {
@@ -352,14 +351,14 @@ void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlanc
       continue;
     }
     const bool ttc = static_cast<DistanceCue>(i) == DistanceCue::kTimeToContact;
-    if (ttc && history_count > 0 && o.ttc_scale_search) {
+    if (ttc && history_count_ > 0 && o.ttc_scale_search) {
       // The longest baseline (history_[head - k + 1] is k frames back) whose travel stays within
       // ttc_baseline_fraction of the last filtered distance, or within ttc_initial_baseline_m
       // before there is one.
       const auto& measure = static_cast<const TimeToContactDistance&>(*distance_measures_[i]);
       const double max_travel =
           last_ttc_input_m_ ? o.ttc_baseline_fraction * *last_ttc_input_m_ : o.ttc_initial_baseline_m;
-      const int max_k = std::min(o.ttc_max_baseline_frames, history_count);
+      const int max_k = std::min(o.ttc_max_baseline_frames, history_count_);
       int k = 1;
       for (int kk = max_k; kk > 1; --kk) {
         const int idx = ((history_head_ - kk + 1) % n_hist + n_hist) % n_hist;
@@ -376,8 +375,8 @@ void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlanc
       // distance, which then kept the baseline short (a trap: drive-3-00l read 1–2 m for its
       // first 2 m of driving, 14 m from the end).
       const double whole =
-          travel_m_ - history_travel_m_[((history_head_ - history_count + 1) % n_hist + n_hist) % n_hist];
-      if (travelled && whole < o.ttc_warmup_m - 1e-9 && history_count < n_hist) {
+          travel_m_ - history_travel_m_[((history_head_ - history_count_ + 1) % n_hist + n_hist) % n_hist];
+      if (travelled && whole < o.ttc_warmup_m - 1e-9 && history_count_ < n_hist) {
         d.baseline_frames = k;
         d.reason = history_[idx].pixels == ttc_glance.pixels ? Reason::kIdenticalFrames : Reason::kNoTravel;
       } else if (fine && history_fine_[idx]) {
@@ -387,7 +386,7 @@ void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlanc
       } else {
         measure.MeasureScale(history_[idx], ttc_glance, k, s, last_ttc_input_m_, d);
       }
-    } else if (ttc && history_count > 0) {
+    } else if (ttc && history_count_ > 0) {
       const auto& measure = static_cast<const TimeToContactDistance&>(*distance_measures_[i]);
       // The one-frame time to contact, median-filtered on its own: a reference for the
       // baseline that cannot run away (a too-long baseline decorrelates the glances near the
@@ -403,7 +402,7 @@ void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlanc
       // The longest baseline (history_[head - k + 1] is k frames back: the current glance is not
       // in the history yet) whose travel stays within the fraction of the reference distance;
       // with no reference yet, one frame.
-      const int max_k = std::min(o.ttc_max_baseline_frames, history_count);
+      const int max_k = std::min(o.ttc_max_baseline_frames, history_count_);
       int k = 1;
       for (int kk = max_k; kk > 1 && reference; --kk) {
         const int idx = ((history_head_ - kk + 1) % n_hist + n_hist) % n_hist;

@@ -40,6 +40,14 @@ struct PixelView {
   bool Empty() const { return data == nullptr || width <= 0 || height <= 0; }
 };
 
+// The grey level of pixel u of a row of a 1-, 3- (BGR) or 4-channel (BGRA) frame: the pixel
+// itself, or (29 B + 150 G + 77 R + 128) / 256. MakeGlance and MakeAreaImage read frames with it.
+inline std::uint8_t GreyAt(const std::uint8_t* row, int u, int channels) {
+  if (channels == 1) return row[u];
+  const std::uint8_t* p = row + u * channels;
+  return static_cast<std::uint8_t>((29u * p[0] + 150u * p[1] + 77u * p[2] + 128u) >> 8);
+}
+
 // Fills `out` from `frame`. Colour pixels become grey as (29·B + 150·G + 77·R) / 256 (BT.601).
 // Frames smaller than the glance are point sampled (pixels repeat). Preconditions
 // (SQUINT_ENSURE): a non-empty frame with 1, 3 or 4 channels.
