@@ -213,6 +213,11 @@ bool Explorer::WallAxis(double* axis_mod90) const {
   return pairs >= opt_.wall_axis_min_pairs && strength >= opt_.wall_axis_min_strength;
 }
 
+void Explorer::RotateAxis(double by_rad) {
+  axis_yaw_odom_ = WrapPi(axis_yaw_odom_ + by_rad);
+  map_yaw_offset_ = WrapPi(map_yaw_offset_ + by_rad);
+}
+
 bool Explorer::UseBlocked(double yaw) const {
   // After driving down the corridor for more than the blind range, what lies in the blind zone
   // ahead was seen from farther back (and is remembered): the latest scan's blocked-near columns
@@ -226,9 +231,10 @@ double Explorer::Free(const Percept& p, double yaw, double max_m) const {
   const bool use_blocked = UseBlocked(yaw);
   // Where the floor there was seen they are ignored, unless the latest frame shows a brick wall's
   // lines (trust_memory_max_wall_lines).
-  const bool straight = !(opt_.trust_memory_max_wall_lines > 0.0 && last_wall_lines_ >= opt_.trust_memory_max_wall_lines);
+  const bool seen_free_exempts =
+      !(opt_.trust_memory_max_wall_lines > 0.0 && last_wall_lines_ >= opt_.trust_memory_max_wall_lines);
   return memory_.FreeTravel(p.odom_T_robot, yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m, use_blocked,
-                            straight);
+                            seen_free_exempts);
 }
 
 double Explorer::BestGap(const Percept& p, double desired_yaw, double* free) const {
@@ -327,10 +333,14 @@ Command Explorer::ScanStep(const Percept& p) {
     scan_turned_ += std::abs(WrapPi(p.odom_T_robot.yaw - scan_prev_yaw_));
     scan_prev_yaw_ = p.odom_T_robot.yaw;
     if (scan_turned_ < 2 * kPi + DegToRad(360.0 / bins)) return {0.0, opt_.scan_rate_rps};
+    // The scan bin a yaw falls in.
+    auto bin_of = [&](double yaw) {
+      const double rel = WrapPi(yaw - scan_start_yaw_);
+      return static_cast<int>(std::floor((rel < 0 ? rel + 2 * kPi : rel) / (2 * kPi) * bins)) % bins;
+    };
     // Mean glance entropy around a yaw (circular window of ±1 bin).
     auto entropy_at = [&](double yaw) {
-      const double rel = WrapPi(yaw - scan_start_yaw_);
-      const int c = static_cast<int>(std::floor((rel < 0 ? rel + 2 * kPi : rel) / (2 * kPi) * bins)) % bins;
+      const int c = bin_of(yaw);
       double s = 0.0;
       int n = 0;
       for (int k = -1; k <= 1; ++k) {
@@ -346,8 +356,7 @@ Command Explorer::ScanStep(const Percept& p) {
     // (corridor-6 start 2: 0.1 m from a wall, the start-up scan set off into it).
     auto scan_free = [&](double yaw) {
       if (opt_.scan_skips_wall_views) {
-        const double r = WrapPi(yaw - scan_start_yaw_);
-        const int c = static_cast<int>(std::floor((r < 0 ? r + 2 * kPi : r) / (2 * kPi) * bins)) % bins;
+        const int c = bin_of(yaw);
         int views = 0, walls = 0;
         for (int k = -1; k <= 1; ++k) {
           views += scan_views_[static_cast<std::size_t>((c + k + bins) % bins)];
@@ -552,10 +561,7 @@ Command Explorer::FollowStep(const Percept& p) {
   if (p.sonar != nullptr && travel_in_corridor_m_ > 1.0 && WallAxis(&wall_axis)) {
     // The walls the memory holds pull a drifted axis back (the glance's heading drifts at a T).
     const double diff = std::remainder(wall_axis - axis_yaw_odom_, kPi / 2);
-    if (std::abs(diff) > DegToRad(8.0)) {
-      axis_yaw_odom_ = WrapPi(axis_yaw_odom_ + opt_.wall_axis_gain * diff);
-      map_yaw_offset_ = WrapPi(map_yaw_offset_ + opt_.wall_axis_gain * diff);
-    }
+    if (std::abs(diff) > DegToRad(8.0)) RotateAxis(opt_.wall_axis_gain * diff);
   }
   if (p.processed && p.heading_deg && p.centre_heading_deg) {
     const double meas = std::clamp(*p.centre_heading_deg - *p.heading_deg, -30.0, 30.0);
@@ -809,10 +815,7 @@ void Explorer::StartProbe() {
   double wall_axis = 0.0;
   if (WallAxis(&wall_axis)) {
     const double diff = std::remainder(wall_axis - axis_yaw_odom_, kPi / 2);
-    if (std::abs(diff) > DegToRad(10.0)) {
-      axis_yaw_odom_ = WrapPi(axis_yaw_odom_ + diff);
-      map_yaw_offset_ = WrapPi(map_yaw_offset_ + diff);
-    }
+    if (std::abs(diff) > DegToRad(10.0)) RotateAxis(diff);
   }
   rot_ = Rotation{axis_yaw_odom_, 0};
 }

@@ -269,6 +269,9 @@ class Explorer {
   // The remembered walls' axis modulo 90 degrees (odometry frame), when axis_from_walls is on and
   // the memory holds enough of them.
   bool WallAxis(double* axis_mod90) const;
+  // Turns the corridor axis and the map's yaw offset together (a drifted axis pulled back to the
+  // remembered walls').
+  void RotateAxis(double by_rad);
   void Emit(ExploreEvent::Kind kind, const Percept& p, int turn_deg, const std::string& note);
   // Sonar: memory update, and the last word on every command (speed limit).
   void UpdateSonar(const Percept& p);

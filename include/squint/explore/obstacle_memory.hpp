@@ -68,7 +68,8 @@ class ObstacleMemory {
   // floor in the blind zone was seen from farther back (a robot that drove into its present view),
   // unless the scan's view was blocked (blocked_view_fraction). `seen_free_exempts` (with
   // use_blocked false): false keeps those columns too, in the narrower sector at the blind range
-  // (the robot turned since it saw that floor: it was seen from the side, not from behind).
+  // (the explorer: the latest frame shows a brick wall's lines, whose base may have been read as
+  // floor from farther back).
   double FreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m, bool use_blocked = true,
                     bool seen_free_exempts = true) const;
   // Nearest remembered point abeam on each side, as lateral distances from the robot along the
