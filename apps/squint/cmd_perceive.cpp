@@ -36,7 +36,7 @@ struct PerceiveOptions {
 constexpr const char* kHeader =
     "stamp,processed,heading_deg,dist_end_m,heading_entropy_deg,heading_symmetry_deg,heading_phase_deg,"
     "heading_vanishing_deg,heading_bright_deg,dist_ttc_m,dist_jeffrey_m,dist_entropy_m,"
-    "gate_change,gt_heading_deg,gt_dist_end_m,heading_reasons,distance_reasons,heading_instant_deg";
+    "gate_change,gt_heading_deg,gt_dist_end_m,heading_reasons,distance_reasons,heading_instant_deg,dist_floor_m";
 
 std::string Cell(const std::optional<double>& v, int decimals) {
   if (!v || !std::isfinite(*v)) return {};
@@ -67,7 +67,7 @@ void WriteRow(std::ostream& os, const io::Frame& frame, const corridor::Percepti
       reasons += std::string(corridor::CueName(d.cue)) + ':' + corridor::ReasonText(d.reason);
     }
   }
-  os << ',' << reasons << ',' << Cell(r.heading_instant_deg, 3) << '\n';
+  os << ',' << reasons << ',' << Cell(r.heading_instant_deg, 3) << ',' << Cell(r.dist_floor_m, 3) << '\n';
 }
 
 void Run(const PerceiveOptions& opt) {

@@ -15,6 +15,7 @@ namespace {
 
 using corridor::CorridorOptions;
 using corridor::DistanceCue;
+using corridor::FloorContactOptions;
 using corridor::HeadingCue;
 
 // Reads mapping keys, refusing unknown ones so that a typo is not silently ignored.
@@ -175,6 +176,18 @@ void ReadDistance(const YAML::Node& node, const std::string& source, corridor::D
   r.Get("ttc_cell_nearest", d.ttc_cell_nearest);
   r.Get("ttc_cell_nearest_at_min_window", d.ttc_cell_nearest_at_min_window);
   r.Get("fused_max_std_m", d.fused_max_std_m);
+  if (auto f = r.Child("floor_contact")) {
+    MapReader m(*f, "distance.floor_contact", source);
+    m.Get("enabled", d.floor_contact.enabled);
+    m.Get("half_width_deg", d.floor_contact.half_width_deg);
+    m.Get("min_step", d.floor_contact.min_step);
+    m.Get("min_column_fraction", d.floor_contact.min_column_fraction);
+    m.Get("min_m", d.floor_contact.min_m);
+    m.Get("max_m", d.floor_contact.max_m);
+    m.Get("overrides_fusion", d.floor_contact.overrides_fusion);
+    m.Get("agreement_ratio", d.floor_contact.agreement_ratio);
+    m.CheckUnknown();
+  }
   r.CheckUnknown();
 }
 
@@ -322,6 +335,13 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
   e << YAML::Key << "ttc_cell_nearest" << YAML::Value << d.ttc_cell_nearest;
   e << YAML::Key << "ttc_cell_nearest_at_min_window" << YAML::Value << d.ttc_cell_nearest_at_min_window;
   e << YAML::Key << "fused_max_std_m" << YAML::Value << d.fused_max_std_m;
+  const FloorContactOptions& fc = d.floor_contact;
+  e << YAML::Key << "floor_contact" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "enabled"
+    << YAML::Value << fc.enabled << YAML::Key << "half_width_deg" << YAML::Value << fc.half_width_deg << YAML::Key
+    << "min_step" << YAML::Value << fc.min_step << YAML::Key << "min_column_fraction" << YAML::Value
+    << fc.min_column_fraction << YAML::Key << "min_m" << YAML::Value << fc.min_m << YAML::Key << "max_m"
+    << YAML::Value << fc.max_m << YAML::Key << "overrides_fusion" << YAML::Value << fc.overrides_fusion
+    << YAML::Key << "agreement_ratio" << YAML::Value << fc.agreement_ratio << YAML::EndMap;
   e << YAML::EndMap;
   e << YAML::Key << "gate" << YAML::Value << YAML::BeginMap << YAML::Key << "enabled" << YAML::Value
     << o.gate.enabled << YAML::Key << "threshold" << YAML::Value << o.gate.threshold << YAML::Key

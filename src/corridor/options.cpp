@@ -121,6 +121,19 @@ double DistanceOptions::FusionWeight(int cue, double dist_m) const {
   return weights[c] / (g * g);
 }
 
+std::string FloorContactOptions::Validate() const {
+  std::ostringstream e;
+  if (!Finite(half_width_deg) || half_width_deg <= 0.0 || half_width_deg > 30.0)
+    e << "distance.floor_contact.half_width_deg must be in (0, 30]; ";
+  if (!Finite(min_step) || min_step <= 0.0) e << "distance.floor_contact.min_step must be positive; ";
+  if (!Finite(min_column_fraction) || min_column_fraction <= 0.0 || min_column_fraction > 1.0)
+    e << "distance.floor_contact.min_column_fraction must be in (0, 1]; ";
+  if (!Finite(min_m) || !Finite(max_m) || min_m < 0.0 || max_m <= min_m)
+    e << "distance.floor_contact needs 0 <= min_m < max_m; ";
+  if (!Finite(agreement_ratio) || agreement_ratio < 0.0) e << "distance.floor_contact.agreement_ratio must be >= 0; ";
+  return e.str();
+}
+
 std::string DistanceOptions::Validate() const {
   std::ostringstream e;
   for (int i = 0; i < kDistanceCueCount; ++i)
@@ -142,6 +155,7 @@ std::string DistanceOptions::Validate() const {
     if (!Finite(error_growth_per_m[i]) || error_growth_per_m[i] < 0.0) e << cue << ".error_growth_per_m must be >= 0; ";
   }
   if (!Finite(fused_max_std_m) || fused_max_std_m < 0.0) e << "distance.fused_max_std_m must be >= 0; ";
+  if (const std::string fc = floor_contact.Validate(); !fc.empty()) e << fc;
   if (!Finite(ttc_window_min_height_px) || ttc_window_min_height_px < 1.0)
     e << "distance.ttc_window_min_height_px must be >= 1; ";
   if (median_frames < 1 || median_frames > kMaxDistanceMedianFrames)

@@ -86,6 +86,12 @@ Perceiver::Perceiver(const Options& options, std::optional<CameraModel> camera)
     smoothed_ttc_image_.assign(n, 0);
     fine_history_px_.assign(n * kHistorySize, 0);
   }
+  if (options_.distance.floor_contact.enabled && camera && camera->HasIntrinsics() && camera->height_m > 0.0 &&
+      camera->width >= 3 && camera->height >= 4) {
+    const double horizon = camera->HorizonRow();
+    if (horizon > -1.0 && horizon < camera->height - 3)
+      floor_contact_ = std::make_unique<FloorContact>(*camera, options_.distance.floor_contact);
+  }
   distance_measures_[1] = std::make_unique<JeffreyDistance>(options_.distance);
   distance_measures_[2] = std::make_unique<EntropyDistance>(options_.distance);
 }
@@ -105,6 +111,7 @@ void Perceiver::ResetDistanceHistory() {
   history_head_ = 0;
   travel_m_ = 0.0;
   for (CueWindow& w : cue_windows_) w.count = w.head = 0;
+  floor_window_.count = floor_window_.head = 0;
   short_window_.count = short_window_.head = 0;
   last_ttc_input_m_.reset();
 }
@@ -210,6 +217,8 @@ PerceptionResult Perceiver::Process(const PixelView& frame, std::optional<double
                                     std::optional<double> turned_deg) {
   Glance glance;
   MakeGlance(frame, options_.sampling, glance);
+  floor_raw_.reset();
+  if (floor_contact_) floor_raw_ = floor_contact_->Measure(frame);
   const DistanceOptions& d = options_.distance;
   constexpr int kTtc = static_cast<int>(DistanceCue::kTimeToContact);
   const bool ttc_on = d.enabled[kTtc] && d.weights[kTtc] > 0.0;
@@ -227,6 +236,7 @@ PerceptionResult Perceiver::Process(const PixelView& frame, std::optional<double
 
 PerceptionResult Perceiver::ProcessGlance(const Glance& glance, std::optional<double> travelled_m, double dt_s,
                                           std::optional<double> turned_deg) {
+  floor_raw_.reset();  // no frame: no floor contact
   return ProcessImpl(glance, glance, nullptr, travelled_m, dt_s, turned_deg);
 }
 
@@ -308,6 +318,10 @@ PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_
     for (DistanceMeasureResult& d : result.distance) d.reason = Reason::kNoPreviousFrame;
   }
   PushHistory(ttc_glance, fine);
+  if (floor_contact_) {
+    result.dist_floor_raw_m = floor_raw_;
+    result.dist_floor_m = PushAndMedian(floor_window_, floor_raw_, true);
+  }
   Fuse(result);
   FilterHeading(result);
   current_ = next;
@@ -501,9 +515,17 @@ void Perceiver::Fuse(PerceptionResult& result) const {
   const double max_std = options_.distance.fused_max_std_m;
   if (sw > 0.0 && max_std > 0.0 && 1.0 / std::sqrt(sw) > max_std) {
     for (DistanceMeasureResult& d : result.distance) d.fused = false;
-    return;
+  } else if (sw > 0.0) {
+    result.dist_end_m = swd / sw;
   }
-  if (sw > 0.0) result.dist_end_m = swd / sw;
+  // The end wall's floor contact, where it has a reading, is the answer (FloorContactOptions).
+  const FloorContactOptions& fc = options_.distance.floor_contact;
+  if (fc.overrides_fusion && result.dist_floor_m &&
+      (fc.agreement_ratio <= 0.0 ||
+       (result.dist_end_m && std::abs(*result.dist_end_m - *result.dist_floor_m) <= fc.agreement_ratio * *result.dist_end_m))) {
+    result.dist_end_m = *result.dist_floor_m;
+    for (DistanceMeasureResult& d : result.distance) d.fused = false;
+  }
 }
 
 }  // namespace squint::corridor

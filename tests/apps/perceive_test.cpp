@@ -183,9 +183,13 @@ TEST(PerceiveCli, HeadingFilterFollowsTheOdometryTurnAndTheInstantColumnKeepsThe
     EXPECT_EQ(RunSquint("perceive " + seq.string() + " --no-gate " + extra + " --out " + out.string()).code, 0);
     const auto lines = ReadLines(out);
     EXPECT_EQ(lines.size(), 7u);
-    EXPECT_EQ(Split(lines[0]).back(), "heading_instant_deg");
-    const auto cells = Split(lines.back());
-    EXPECT_EQ(cells.size(), Split(lines[0]).size());
+    // heading_instant_deg, then the columns added after it (dist_floor_m).
+    const auto header = Split(lines[0]);
+    EXPECT_EQ(header.back(), "dist_floor_m");
+    EXPECT_EQ(header[header.size() - 2], "heading_instant_deg");
+    auto cells = Split(lines.back());
+    EXPECT_EQ(cells.size(), header.size());
+    cells.pop_back();  // heading_instant_deg last, as the checks below read it
     return cells;
   };
   const fs::path left = WriteTurningSequence("left", 3.0), right = WriteTurningSequence("right", -3.0);

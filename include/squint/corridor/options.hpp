@@ -142,6 +142,37 @@ struct HeadingOptions {
   std::string Validate() const;
 };
 
+// Distance to the end from where the end wall stands on the floor (beyond the paper: the obstacle
+// paper's floor-contact point, eq. 16, applied to the end of the corridor). Needs the full frame
+// (Perceiver::Process) and a camera with intrinsics, height and pitch. In each column within
+// ±half_width_deg of the image centre (3 columns averaged), scanning down from the horizon row,
+// the first place where the grey level changes by at least min_step between two neighbouring rows
+// (refined to the strongest such change in the next 2 rows, sub-pixel by a parabola) is where
+// the end wall meets the floor: the end wall fills the view about the horizon, and its base is the
+// first edge below it. That row's floor point (CameraModel::FloorPoint) gives the distance along
+// the robot's axis; the median over the columns is the frame's reading when at least
+// min_column_fraction of them gave one and it lies within [min_m, max_m]. Its temporal median
+// (median_frames, moved to the current frame by odometry like time to contact) is
+// PerceptionResult::dist_floor_m. Where it has a reading, it is the fused distance
+// (overrides_fusion): a floor point at a known camera height is a measurement of geometry, not
+// of image change, and on the calibration drives drive-3-00* it is within a few centimetres up to
+// 10 m (docs/calibration.md, session 8); elsewhere the three cues' fusion answers.
+struct FloorContactOptions {
+  bool enabled = true;
+  double half_width_deg = 2.0;
+  double min_step = 6.0;
+  double min_column_fraction = 0.5;
+  double min_m = 0.3;
+  double max_m = 20.0;
+  bool overrides_fusion = true;
+  // The override needs corroboration: the three cues' fused distance must lie within
+  // agreement_ratio × itself of the floor contact's (0 = no check; without a fused distance no
+  // override). On brick end walls a mortar line below the horizon is taken for the wall's base
+  // and the reading is metres too far (drive-3-01*, the simulator's corridor-1 and corridor-9).
+  double agreement_ratio = 0.5;
+  std::string Validate() const;
+};
+
 struct DistanceOptions {
   // Per cue, indexed by DistanceCue: fusion weights (paper §5.2: time to contact most accurate).
   std::array<double, kDistanceCueCount> weights = {2.0, 1.0, 1.0};
@@ -284,6 +315,8 @@ struct DistanceOptions {
   // (error_growth_per_m above). The Perceiver's fusion, the eval's unfiltered average and the
   // calibration's choice of fused cues all weigh with it.
   double FusionWeight(int cue, double dist_m) const;
+
+  FloorContactOptions floor_contact;
 
   std::string Validate() const;
 };

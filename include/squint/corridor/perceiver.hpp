@@ -10,6 +10,7 @@
 #include "squint/core/camera.hpp"
 #include "squint/core/image_view.hpp"
 #include "squint/corridor/distance_measures.hpp"
+#include "squint/corridor/floor_contact.hpp"
 #include "squint/corridor/glance.hpp"
 #include "squint/corridor/heading_measures.hpp"
 #include "squint/corridor/kalman.hpp"
@@ -32,6 +33,11 @@ struct PerceptionResult {
   std::optional<double> heading_deg;
   std::optional<double> heading_instant_deg;
   std::optional<double> dist_end_m;
+  // The end wall's floor contact (FloorContactOptions; Process() with a full camera only): this
+  // frame's reading and its temporal median. With overrides_fusion the median, when there is
+  // one, is dist_end_m.
+  std::optional<double> dist_floor_raw_m;
+  std::optional<double> dist_floor_m;
   // Per cue, indexed by HeadingCue / DistanceCue.
   std::array<HeadingMeasureResult, kHeadingCueCount> heading{};
   std::array<DistanceMeasureResult, kDistanceCueCount> distance{};
@@ -163,6 +169,11 @@ class Perceiver {
   };
   std::array<CueWindow, kDistanceCueCount> cue_windows_{};
   CueWindow short_window_{};  // the one-frame time to contact (the baseline's reference)
+  // Floor contact (FloorContactOptions): none without a full camera or when disabled; the
+  // reading of the frame given to Process(), and its temporal window.
+  std::unique_ptr<FloorContact> floor_contact_;
+  std::optional<double> floor_raw_;
+  CueWindow floor_window_{};
   // Pushes `input` (when given) and returns the median of the window; time-to-contact inputs
   // are first moved to the current frame by the travel since.
   std::optional<double> PushAndMedian(CueWindow& w, std::optional<double> input, bool travel_compensated) const;

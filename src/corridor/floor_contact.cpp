@@ -1,0 +1,74 @@
+// Floor contact of the end wall: the first grey-level edge below the horizon in the centre
+// columns, back-projected onto the floor through the camera model.
+#include "squint/corridor/floor_contact.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "squint/core/error.hpp"
+
+namespace squint::corridor {
+
+FloorContact::FloorContact(const CameraModel& camera, const FloorContactOptions& options)
+    : camera_(camera), options_(options) {
+  if (std::string e = options_.Validate(); !e.empty()) throw Error("floor contact: " + e);
+  if (!camera_.HasIntrinsics() || camera_.width < 3 || camera_.height < 4 || !(camera_.height_m > 0.0))
+    throw Error("floor contact: the camera needs intrinsics and a height above the floor");
+  const double horizon = camera_.HorizonRow();
+  if (!(horizon > -1.0 && horizon < camera_.height - 3))
+    throw Error("floor contact: the horizon is not inside the frame (check the camera pitch)");
+  top_row_ = std::max(0, static_cast<int>(std::ceil(horizon)));
+  const double half = camera_.fx * std::tan(options_.half_width_deg * 3.14159265358979323846 / 180.0);
+  u_first_ = std::max(1, static_cast<int>(std::lround(camera_.cx - half)));
+  u_last_ = std::min(camera_.width - 2, static_cast<int>(std::lround(camera_.cx + half)));
+  profile_.assign(static_cast<std::size_t>(camera_.height), 0.0);
+  readings_.reserve(static_cast<std::size_t>(std::max(0, u_last_ - u_first_ + 1)));
+}
+
+std::optional<double> FloorContact::BoundaryRow(const PixelView& frame, int u) {
+  const int h = camera_.height;
+  for (int v = top_row_; v < h; ++v) {
+    const std::uint8_t* row = frame.data + static_cast<std::ptrdiff_t>(v) * frame.stride;
+    profile_[static_cast<std::size_t>(v)] =
+        (GreyAt(row, u - 1, frame.channels) + GreyAt(row, u, frame.channels) + GreyAt(row, u + 1, frame.channels)) / 3.0;
+  }
+  // d(v) = |p(v + 1) - p(v)|: the edge between rows v and v + 1.
+  auto step = [&](int v) { return std::abs(profile_[static_cast<std::size_t>(v + 1)] - profile_[static_cast<std::size_t>(v)]); };
+  for (int v = top_row_ + 1; v < h - 2; ++v) {
+    if (step(v) < options_.min_step) continue;
+    int best = v;
+    for (int j = v + 1; j < std::min(v + 3, h - 2); ++j)
+      if (step(j) > step(best)) best = j;
+    double off = 0.0;
+    if (best > top_row_ && best + 1 < h - 1) {
+      const double a = step(best - 1), b = step(best), c = step(best + 1);
+      const double den = a - 2.0 * b + c;
+      if (den != 0.0) off = std::clamp(0.5 * (a - c) / den, -0.5, 0.5);
+    }
+    return best + 0.5 + off;
+  }
+  return std::nullopt;
+}
+
+std::optional<double> FloorContact::Measure(const PixelView& frame) {
+  if (frame.data == nullptr || frame.width != camera_.width || frame.height != camera_.height) return std::nullopt;
+  readings_.clear();
+  const int columns = u_last_ - u_first_ + 1;
+  if (columns <= 0) return std::nullopt;
+  for (int u = u_first_; u <= u_last_; ++u) {
+    const std::optional<double> y = BoundaryRow(frame, u);
+    if (!y) continue;
+    const std::optional<Eigen::Vector2d> fp = camera_.FloorPoint({static_cast<double>(u), *y});
+    if (!fp || !std::isfinite(fp->x()) || fp->x() <= 0.0) continue;
+    readings_.push_back(fp->x());
+  }
+  if (static_cast<double>(readings_.size()) < options_.min_column_fraction * columns || readings_.empty()) return std::nullopt;
+  const std::size_t mid = readings_.size() / 2;
+  std::nth_element(readings_.begin(), readings_.begin() + static_cast<std::ptrdiff_t>(mid), readings_.end());
+  double med = readings_[mid];
+  if (readings_.size() % 2 == 0) med = 0.5 * (med + *std::max_element(readings_.begin(), readings_.begin() + static_cast<std::ptrdiff_t>(mid)));
+  if (!(med >= options_.min_m && med <= options_.max_m)) return std::nullopt;
+  return med;
+}
+
+}  // namespace squint::corridor
