@@ -124,7 +124,9 @@ void Register(CLI::App& root) {
       "phase, vanishing, bright; deg, left positive), the three distance cues (ttc, jeffrey,\n"
       "entropy; m), then extras: gate_change, gt_heading_deg, gt_dist_end_m (ground truth when the\n"
       "input has it), heading_reasons, distance_reasons (why a cue gave no estimate), heading_instant_deg\n"
-      "(the per-frame fusion; heading_deg is the heading filter's state when the options enable it).\n"
+      "(the per-frame fusion; heading_deg is the heading filter's state when the options enable it),\n"
+      "dist_floor_m (where the end wall stands on the floor, from the full frame and the camera's height\n"
+      "and pitch; a sequence folder's camera only).\n"
       "An empty cell means no estimate; processed is 0 where the rapid-perception gate skipped the frame.");
   cmd->add_option("INPUT", opt->input, "Sequence folder, image folder or video file")->required();
   cmd->add_option("--calib", opt->calib, "Corridor options YAML (see include/squint/config/corridor_yaml.hpp)");
