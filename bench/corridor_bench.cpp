@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "squint/core/camera.hpp"
+#include "squint/corridor/floor_contact.hpp"
 #include "squint/corridor/heading_measures.hpp"
 #include "squint/corridor/perceiver.hpp"
 #include "squint/corridor/prepared_glance.hpp"
@@ -70,6 +71,19 @@ void BM_GlanceFull(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_GlanceFull)->Name("glance_full_us")->Unit(benchmark::kMicrosecond);
+
+// The end wall's floor contact on one 160×120 frame (every frame Process() is given, with a full
+// camera): the centre columns' edges below the horizon and their floor distances.
+void BM_FloorContact(benchmark::State& state) {
+  FloorContact fc(Camera(), FloorContactOptions{});
+  const auto a = SyntheticFrame(0);
+  const squint::corridor::PixelView view{a.data(), 160, 120, 160, 1};
+  for (auto _ : state) {
+    std::optional<double> d = fc.Measure(view);
+    benchmark::DoNotOptimize(d);
+  }
+}
+BENCHMARK(BM_FloorContact)->Name("floor_contact_us")->Unit(benchmark::kMicrosecond);
 
 // Full frame → glance → whole-glance entropy → decision: what every frame costs when skipped.
 void BM_GlanceFromFrame(benchmark::State& state) {
