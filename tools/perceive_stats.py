@@ -13,7 +13,7 @@ import sys
 
 HEAD = ["heading_deg", "heading_entropy_deg", "heading_symmetry_deg", "heading_phase_deg",
         "heading_vanishing_deg", "heading_bright_deg"]
-DIST = ["dist_end_m", "dist_ttc_m", "dist_jeffrey_m", "dist_entropy_m"]
+DIST = ["dist_end_m", "dist_ttc_m", "dist_jeffrey_m", "dist_entropy_m", "dist_floor_m"]
 
 
 def median(xs):
@@ -52,6 +52,8 @@ def main(paths):
     if any(r["gt_dist_end_m"] for r in rows):
         print(f"{'distance':24s} {'cover%':>7s} {'rmse':>7s} {'median':>7s}")
         for col in DIST:
+            if col not in rows[0]:  # CSVs written before the column existed
+                continue
             errs = [float(r[col]) - float(r["gt_dist_end_m"]) for r in rows if r[col] != "" and r["gt_dist_end_m"]]
             cover = 100.0 * len(errs) / max(1, len(rows))
             rmse = math.sqrt(sum(e * e for e in errs) / max(1, len(errs)))
