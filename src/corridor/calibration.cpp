@@ -10,21 +10,12 @@
 #include <optional>
 
 #include "squint/core/error.hpp"
+#include "squint/core/median.hpp"
 
 namespace squint::corridor {
 namespace {
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
-  double m = v[mid];
-  if (v.size() % 2 == 0) {
-    const double lower = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid));
-    m = 0.5 * (m + lower);
-  }
-  return m;
-}
+double Median(std::vector<double> v) { return MedianInPlace(v); }
 
 std::string Num(double v) {
   char buf[64];

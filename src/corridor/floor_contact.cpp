@@ -5,20 +5,26 @@
 #include <algorithm>
 #include <cmath>
 
+#include "squint/core/angles.hpp"
 #include "squint/core/error.hpp"
+#include "squint/core/median.hpp"
 
 namespace squint::corridor {
+
+std::string FloorContact::CameraProblem(const CameraModel& camera) {
+  if (!camera.HasIntrinsics() || camera.width < 3 || camera.height < 4 || !(camera.height_m > 0.0))
+    return "the camera needs intrinsics and a height above the floor";
+  const double horizon = camera.HorizonRow();
+  if (!(horizon > -1.0 && horizon < camera.height - 3)) return "the horizon is not inside the frame (check the camera pitch)";
+  return {};
+}
 
 FloorContact::FloorContact(const CameraModel& camera, const FloorContactOptions& options)
     : camera_(camera), options_(options) {
   if (std::string e = options_.Validate(); !e.empty()) throw Error("floor contact: " + e);
-  if (!camera_.HasIntrinsics() || camera_.width < 3 || camera_.height < 4 || !(camera_.height_m > 0.0))
-    throw Error("floor contact: the camera needs intrinsics and a height above the floor");
-  const double horizon = camera_.HorizonRow();
-  if (!(horizon > -1.0 && horizon < camera_.height - 3))
-    throw Error("floor contact: the horizon is not inside the frame (check the camera pitch)");
-  top_row_ = std::max(0, static_cast<int>(std::ceil(horizon)));
-  const double half = camera_.fx * std::tan(options_.half_width_deg * 3.14159265358979323846 / 180.0);
+  if (std::string e = CameraProblem(camera_); !e.empty()) throw Error("floor contact: " + e);
+  top_row_ = std::max(0, static_cast<int>(std::ceil(camera_.HorizonRow())));
+  const double half = camera_.fx * std::tan(DegToRad(options_.half_width_deg));
   u_first_ = std::max(1, static_cast<int>(std::lround(camera_.cx - half)));
   u_last_ = std::min(camera_.width - 2, static_cast<int>(std::lround(camera_.cx + half)));
   profile_.assign(static_cast<std::size_t>(camera_.height), 0.0);
@@ -63,10 +69,7 @@ std::optional<double> FloorContact::Measure(const PixelView& frame) {
     readings_.push_back(fp->x());
   }
   if (static_cast<double>(readings_.size()) < options_.min_column_fraction * columns || readings_.empty()) return std::nullopt;
-  const std::size_t mid = readings_.size() / 2;
-  std::nth_element(readings_.begin(), readings_.begin() + static_cast<std::ptrdiff_t>(mid), readings_.end());
-  double med = readings_[mid];
-  if (readings_.size() % 2 == 0) med = 0.5 * (med + *std::max_element(readings_.begin(), readings_.begin() + static_cast<std::ptrdiff_t>(mid)));
+  const double med = MedianInPlace(readings_);
   if (!(med >= options_.min_m && med <= options_.max_m)) return std::nullopt;
   return med;
 }

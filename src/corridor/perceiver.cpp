@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "squint/core/median.hpp"
 #include "squint/core/angles.hpp"
 #include "squint/core/error.hpp"
 
@@ -86,12 +87,8 @@ Perceiver::Perceiver(const Options& options, std::optional<CameraModel> camera)
     smoothed_ttc_image_.assign(n, 0);
     fine_history_px_.assign(n * kHistorySize, 0);
   }
-  if (options_.distance.floor_contact.enabled && camera && camera->HasIntrinsics() && camera->height_m > 0.0 &&
-      camera->width >= 3 && camera->height >= 4) {
-    const double horizon = camera->HorizonRow();
-    if (horizon > -1.0 && horizon < camera->height - 3)
-      floor_contact_ = std::make_unique<FloorContact>(*camera, options_.distance.floor_contact);
-  }
+  if (options_.distance.floor_contact.enabled && camera && FloorContact::CameraProblem(*camera).empty())
+    floor_contact_ = std::make_unique<FloorContact>(*camera, options_.distance.floor_contact);
   distance_measures_[1] = std::make_unique<JeffreyDistance>(options_.distance);
   distance_measures_[2] = std::make_unique<EntropyDistance>(options_.distance);
 }
@@ -217,8 +214,6 @@ PerceptionResult Perceiver::Process(const PixelView& frame, std::optional<double
                                     std::optional<double> turned_deg) {
   Glance glance;
   MakeGlance(frame, options_.sampling, glance);
-  floor_raw_.reset();
-  if (floor_contact_) floor_raw_ = floor_contact_->Measure(frame);
   const DistanceOptions& d = options_.distance;
   constexpr int kTtc = static_cast<int>(DistanceCue::kTimeToContact);
   const bool ttc_on = d.enabled[kTtc] && d.weights[kTtc] > 0.0;
@@ -229,15 +224,14 @@ PerceptionResult Perceiver::Process(const PixelView& frame, std::optional<double
   }
   if (d.ttc_area_glance && options_.sampling != GlanceSampling::kArea && ttc_on) {
     MakeGlance(frame, GlanceSampling::kArea, area_glance_);
-    return ProcessImpl(glance, area_glance_, fine, travelled_m, dt_s, turned_deg);
+    return ProcessImpl(glance, area_glance_, fine, &frame, travelled_m, dt_s, turned_deg);
   }
-  return ProcessImpl(glance, glance, fine, travelled_m, dt_s, turned_deg);
+  return ProcessImpl(glance, glance, fine, &frame, travelled_m, dt_s, turned_deg);
 }
 
 PerceptionResult Perceiver::ProcessGlance(const Glance& glance, std::optional<double> travelled_m, double dt_s,
                                           std::optional<double> turned_deg) {
-  floor_raw_.reset();  // no frame: no floor contact
-  return ProcessImpl(glance, glance, nullptr, travelled_m, dt_s, turned_deg);
+  return ProcessImpl(glance, glance, nullptr, nullptr, travelled_m, dt_s, turned_deg);
 }
 
 void Perceiver::PushHistory(const Glance& g, const std::uint8_t* fine) {
@@ -254,6 +248,7 @@ void Perceiver::PushHistory(const Glance& g, const std::uint8_t* fine) {
 }
 
 PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_glance_in, const std::uint8_t* fine_in,
+                                        const PixelView* frame,
                                         std::optional<double> travelled_m, double dt_s,
                                         std::optional<double> turned_deg) {
   PerceptionResult result;
@@ -319,8 +314,9 @@ PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_
   }
   PushHistory(ttc_glance, fine);
   if (floor_contact_) {
-    result.dist_floor_raw_m = floor_raw_;
-    result.dist_floor_m = PushAndMedian(floor_window_, floor_raw_, true);
+    // Measured on processed frames only (the gate's skipped frames return above).
+    if (frame) result.dist_floor_raw_m = floor_contact_->Measure(*frame);
+    result.dist_floor_m = PushAndMedian(floor_window_, result.dist_floor_raw_m, true);
   }
   Fuse(result);
   FilterHeading(result);
@@ -346,11 +342,7 @@ std::optional<double> Perceiver::PushAndMedian(CueWindow& w, std::optional<doubl
     const int idx = ((w.head - k) % kCap + kCap) % kCap;
     v[n++] = travel_compensated ? w.input[idx] - (travel_m_ - w.travel_m[idx]) : w.input[idx];
   }
-  const int mid = n / 2;
-  std::nth_element(v.begin(), v.begin() + mid, v.begin() + n);
-  double med = v[mid];
-  if (n % 2 == 0) med = 0.5 * (med + *std::max_element(v.begin(), v.begin() + mid));
-  return med;
+  return MedianInPlace(std::span<double>(v.data(), static_cast<std::size_t>(n)));
 }
 
 void Perceiver::MeasureDistances(const PreparedGlance& prev, const PreparedGlance& cur, const Glance& ttc_glance,

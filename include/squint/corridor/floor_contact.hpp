@@ -3,6 +3,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "squint/core/camera.hpp"
@@ -16,17 +17,19 @@ class FloorContact {
   // `camera`: the camera of the frames given to Measure (intrinsics, height and pitch). Throws
   // squint::Error when it has no intrinsics, no height, or the horizon is not inside the frame.
   FloorContact(const CameraModel& camera, const FloorContactOptions& options);
+  // Why `camera` cannot serve (empty when it can): the constructor's camera checks.
+  static std::string CameraProblem(const CameraModel& camera);
 
   // The frame's reading in metres along the robot's axis, or none (frame of another size, too
   // few columns with an edge below the horizon, or a reading outside [min_m, max_m]). Allocates
   // nothing.
   std::optional<double> Measure(const PixelView& frame);
 
+ private:
   // The boundary row (pixel-centre coordinates, sub-pixel) of column u's profile, scanning down
-  // from the horizon; none without a step of min_step. Exposed for tests.
+  // from the horizon; none without a step of min_step.
   std::optional<double> BoundaryRow(const PixelView& frame, int u);
 
- private:
   CameraModel camera_;
   FloorContactOptions options_;
   int top_row_ = 0;       // first row below the horizon

@@ -112,9 +112,9 @@ class Perceiver {
   // ProcessGlance with `ttc_glance` (the glance time to contact compares: area-averaged for
   // Process() with DistanceOptions::ttc_area_glance, else `glance` itself).
   // `fine`: time to contact's finer image of the frame (DistanceOptions::ttc_glance_scale;
-  // ttc_width_ × ttc_height_), or null.
+  // ttc_width_ × ttc_height_), or null. `frame`: the full frame for the floor contact, or null.
   PerceptionResult ProcessImpl(const Glance& glance, const Glance& ttc_glance, const std::uint8_t* fine,
-                               std::optional<double> travelled_m, double dt_s, std::optional<double> turned_deg);
+                               const PixelView* frame, std::optional<double> travelled_m, double dt_s, std::optional<double> turned_deg);
   // The heading filter (HeadingOptions::filter): the prediction by the odometry's turn (every
   // frame) and the update by the cues (processed frames).
   void PredictHeading(std::optional<double> travelled_m, std::optional<double> turned_deg, double dt_s);
@@ -169,10 +169,9 @@ class Perceiver {
   };
   std::array<CueWindow, kDistanceCueCount> cue_windows_{};
   CueWindow short_window_{};  // the one-frame time to contact (the baseline's reference)
-  // Floor contact (FloorContactOptions): none without a full camera or when disabled; the
-  // reading of the frame given to Process(), and its temporal window.
+  // Floor contact (FloorContactOptions): none without a full camera or when disabled; its
+  // temporal window.
   std::unique_ptr<FloorContact> floor_contact_;
-  std::optional<double> floor_raw_;
   CueWindow floor_window_{};
   // Pushes `input` (when given) and returns the median of the window; time-to-contact inputs
   // are first moved to the current frame by the travel since.
