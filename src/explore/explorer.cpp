@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <limits>
 
 #include "squint/core/angles.hpp"
 #include "squint/core/error.hpp"
@@ -77,6 +78,7 @@ std::string ExplorerOptions::Validate() const {
   if (!Positive(gap_step_deg)) return "gap_step_deg must be positive";
   if (gap_steps < 0 || gap_steps > 36) return "gap_steps must be in [0, 36]";
   if (!NonNegative(gap_cost_per_deg)) return "gap_cost_per_deg must be >= 0";
+  if (!NonNegative(gap_side_wall_max_m)) return "gap_side_wall_max_m must be >= 0";
   if (!Positive(sonar_end_free_m)) return "sonar_end_free_m must be positive";
   if (!Positive(sonar_end_gap_m)) return "sonar_end_gap_m must be positive";
   if (!Positive(sonar_open_free_m)) return "sonar_open_free_m must be positive";
@@ -237,7 +239,17 @@ double Explorer::Free(const Percept& p, double yaw, double max_m) const {
                             seen_free_exempts);
 }
 
-double Explorer::BestGap(const Percept& p, double desired_yaw, double* free) const {
+double Explorer::SideLineTravel(double yaw, double left_m, double right_m) const {
+  const double lateral_rate = std::sin(WrapPi(yaw - axis_yaw_odom_));  // left positive
+  const double wall_m = lateral_rate > 0.0 ? left_m : lateral_rate < 0.0 ? right_m : -1.0;
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  if (!(wall_m > 0.0)) return kNone;
+  // A line the robot's centre would not reach within the lookahead closes nothing.
+  if (wall_m / std::abs(lateral_rate) > opt_.lookahead_m + opt_.robot_radius_m) return kNone;
+  return std::max(0.0, wall_m - opt_.robot_radius_m - opt_.safety_margin_m) / std::abs(lateral_rate);
+}
+
+double Explorer::BestGap(const Percept& p, double desired_yaw, double* free, double left_m, double right_m) const {
   double best_yaw = desired_yaw;
   double best_score = -1e9;
   double best_free = 0.0;
@@ -245,7 +257,7 @@ double Explorer::BestGap(const Percept& p, double desired_yaw, double* free) con
     // Candidates in the order 0, -1, +1, -2, ... are not needed: the score breaks ties by angle.
     const double off_deg = k * opt_.gap_step_deg;
     const double yaw = WrapPi(desired_yaw + DegToRad(off_deg));
-    const double f = Free(p, yaw, opt_.lookahead_m);
+    const double f = std::min(Free(p, yaw, opt_.lookahead_m), SideLineTravel(yaw, left_m, right_m));
     const double score = f / opt_.lookahead_m - opt_.gap_cost_per_deg * std::abs(off_deg);
     if (score > best_score) {
       best_score = score;
@@ -335,8 +347,8 @@ Command Explorer::ScanStep(const Percept& p) {
     if (scan_turned_ < 2 * kPi + DegToRad(360.0 / bins)) return {0.0, opt_.scan_rate_rps};
     // The scan bin a yaw falls in.
     auto bin_of = [&](double yaw) {
-      const double rel = WrapPi(yaw - scan_start_yaw_);
-      return static_cast<int>(std::floor((rel < 0 ? rel + 2 * kPi : rel) / (2 * kPi) * bins)) % bins;
+      const double from_start = WrapPi(yaw - scan_start_yaw_);
+      return static_cast<int>(std::floor((from_start < 0 ? from_start + 2 * kPi : from_start) / (2 * kPi) * bins)) % bins;
     };
     // Mean glance entropy around a yaw (circular window of ±1 bin).
     auto entropy_at = [&](double yaw) {
@@ -660,7 +672,10 @@ Command Explorer::FollowStep(const Percept& p) {
     const double desired_yaw = WrapPi(axis_yaw_odom_ + DegToRad(correction));
     double free = Free(p, desired_yaw, opt_.lookahead_m);
     double yaw = desired_yaw;
-    if (free < opt_.lookahead_m) yaw = BestGap(p, desired_yaw, &free);
+    if (free < opt_.lookahead_m) {
+      const double near = opt_.gap_side_wall_max_m;
+      yaw = BestGap(p, desired_yaw, &free, left <= near ? left : -1.0, right <= near ? right : -1.0);
+    }
     target = WrapPi(yaw - axis_yaw_odom_);
   }
   const double err = WrapPi(target - heading);

@@ -71,7 +71,9 @@ TEST(VisualSonar, KnownBoundaryRowsGiveTheFloorRangeOfThatRow) {
     EXPECT_GE(c.range_m, lo - 1e-9) << "column " << u;
     EXPECT_LE(c.range_m, hi + 1e-9) << "column " << u;
     EXPECT_NEAR(c.bearing_rad, cam.BearingOfColumn(u), 1e-12);
-    if (c.boundary_row >= 0) EXPECT_EQ(c.boundary_row, row);
+    if (c.boundary_row >= 0) {
+      EXPECT_EQ(c.boundary_row, row);
+    }
   }
   // Lower rows are nearer: the range grows from block to block upward.
   EXPECT_GT(out[8].range_m, out[24].range_m);
@@ -132,7 +134,9 @@ TEST(VisualSonar, CarpetEdgeAtKnownRangeIsFloorAndTheWallBeyondIsTheBoundary) {
     ASSERT_EQ(c.kind, SonarReturn::kBoundary) << "column " << u;
     // One row at 3.5 m is about 0.35 m of range; the carpet edge is not what the column reads.
     EXPECT_NEAR(c.range_m * std::cos(c.bearing_rad), 3.5, 0.3) << "column " << u;
-    if (c.boundary_row >= 0) EXPECT_NEAR(c.floor_edge_m * std::cos(c.bearing_rad), 2.0, 0.12) << "column " << u;
+    if (c.boundary_row >= 0) {
+      EXPECT_NEAR(c.floor_edge_m * std::cos(c.bearing_rad), 2.0, 0.12) << "column " << u;
+    }
   }
   // Turned off, the carpet edge is read as something standing at 2.0 m.
   VisualSonarOptions off;
