@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Seeded starts over several seeds: `squint eval explore --starts 10 --minutes 3 --seed S` for each
+# seed, two at a time, then one line per seed and the total of runs without collision.
+#
+# Usage: tools/eval_explore_seeds.sh SQUINT OUT_DIR FIRST_SEED LAST_SEED [extra eval options...]
+#   e.g. tools/eval_explore_seeds.sh build/squint /tmp/seeds 1 8
+# Writes OUT_DIR/seed-S/{table.md,runs.csv,map-*.png} and OUT_DIR/summary.txt. A closed loop's
+# outcome is chaotic (any change to the explorer reshuffles which starts fail), so compare
+# variants over many seeds, and judge on seeds that were not used to tune them (docs/explore.md,
+# session 9). Not part of CI: about 2.5 CPU minutes per seed.
+set -euo pipefail
+if [ $# -lt 4 ]; then
+  echo "usage: $0 SQUINT OUT_DIR FIRST_SEED LAST_SEED [extra eval options...]" >&2
+  exit 2
+fi
+squint=$1 out=$2 first=$3 last=$4
+shift 4
+[ -x "$squint" ] || { echo "$0: $squint is not an executable" >&2; exit 2; }
+[[ "$first" =~ ^[0-9]+$ && "$last" =~ ^[0-9]+$ && "$first" -le "$last" ]] ||
+  { echo "$0: seeds must be whole numbers, FIRST <= LAST (got $first, $last)" >&2; exit 2; }
+mkdir -p "$out"
+pids=()
+for s in $(seq "$first" "$last"); do
+  "$squint" eval explore --starts 10 --minutes 3 --seed "$s" --out "$out/seed-$s" "$@" > "$out/seed-$s.log" 2>&1 &
+  pids+=($!)
+  if [ ${#pids[@]} -ge 2 ]; then
+    wait "${pids[0]}" || { echo "$0: seed run failed, see $out/*.log" >&2; exit 1; }
+    pids=("${pids[@]:1}")
+  fi
+done
+for p in "${pids[@]}"; do wait "$p" || { echo "$0: seed run failed, see $out/*.log" >&2; exit 1; }; done
+total=0 runs=0
+{
+  for s in $(seq "$first" "$last"); do
+    csv="$out/seed-$s/runs.csv"
+    clean=$(awk -F, 'NR > 1 && $11 == 0' "$csv" | wc -l)
+    n=$(awk -F, 'NR > 1' "$csv" | wc -l)
+    failed=$(awk -F, 'NR > 1 && $11 > 0 {printf "%s %s; ", $1, $2}' "$csv")
+    echo "seed $s: $clean of $n without collision${failed:+ (failed: ${failed%; })}"
+    total=$((total + clean)) runs=$((runs + n))
+  done
+  echo "seeds $first-$last: $total of $runs runs without collision"
+} | tee "$out/summary.txt"
