@@ -51,6 +51,7 @@ std::string ExplorerOptions::Validate() const {
   if (!(end_entropy_ratio >= 0.0 && end_entropy_ratio < 1.0)) return "end_entropy_ratio must be in [0, 1)";
   if (!(reference_percentile >= 0.0 && reference_percentile <= 1.0)) return "reference_percentile must be in [0, 1]";
   if (axis_reacquire_frames < 1) return "axis_reacquire_frames must be >= 1";
+  if (reprobe_dead_end_visits < 0) return "reprobe_dead_end_visits must be >= 0";
   if (align_frames < 1) return "align_frames must be >= 1";
   if (!Positive(align_done_deg)) return "align_done_deg must be positive";
   if (align_rounds < 0) return "align_rounds must be >= 0";
@@ -818,6 +819,19 @@ bool Explorer::OnOpening(const Percept& p, int side, double width_m) {
 }
 
 void Explorer::StartProbe() {
+  // A dead end judged on an earlier visit: look at its sides again (at most
+  // reprobe_dead_end_visits times per node).
+  if (node_ >= 0) {
+    if (dead_end_reprobes_.size() <= static_cast<std::size_t>(node_)) dead_end_reprobes_.resize(static_cast<std::size_t>(node_) + 1, 0);
+    const TopoNode& node = map_.Nodes()[static_cast<std::size_t>(node_)];
+    const int left = (dir_ + 1) & 3, right = (dir_ + 3) & 3;
+    if (node.branch[left] == Branch::kWall && node.branch[right] == Branch::kWall &&
+        dead_end_reprobes_[static_cast<std::size_t>(node_)] < opt_.reprobe_dead_end_visits) {
+      ++dead_end_reprobes_[static_cast<std::size_t>(node_)];
+      map_.SetBranch(node_, left, Branch::kUnknown);
+      map_.SetBranch(node_, right, Branch::kUnknown);
+    }
+  }
   last_ref_entropy_ = ReferenceEntropy();
   side_free_m_[0] = side_free_m_[1] = -1.0;
   gap_side_dir_ = -1;

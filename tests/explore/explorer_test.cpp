@@ -25,6 +25,7 @@ constexpr double kWallEntropy = 1.8;
 struct ToyCorridor {
   bool left_open = true;
   bool right_open = false;
+  int left_hidden_until_frame = 0;  // the open left side looks like a wall before this frame
   int process_every = 3;        // rapid-perception gate: one frame in N fully processed
   double odom_drift_rad_per_m = 0.0;
 
@@ -46,7 +47,7 @@ struct ToyCorridor {
     double lateral = 0.0;
     switch (dir) {
       case 0: open = !wall_fills_view; dist = 10.0 - pose.x; lateral = pose.y; break;
-      case 1: open = at_end && left_open; lateral = 10.0 - pose.x - 1.0; break;
+      case 1: open = at_end && left_open && frame >= left_hidden_until_frame; lateral = 10.0 - pose.x - 1.0; break;
       case 2: open = pose.x > 5.0; dist = pose.x; lateral = -pose.y; break;  // the start end is near
       case 3: open = at_end && right_open; lateral = pose.x - 9.0; break;
     }
@@ -124,6 +125,35 @@ TEST(Explorer, EndDetectedStopProbeTurnTowardOpenLeft) {
   EXPECT_EQ(node.branch[3], Branch::kWall);
   EXPECT_EQ(node.branch[0], Branch::kWall);
   EXPECT_NEAR(RadToDeg(world.pose.yaw), 90.0, 3.0);
+}
+
+// A look misjudged once: on the first arrival the open left side reads as a wall, so the end
+// is a dead end and the robot turns back; on its next arrival there the sides are looked at again
+// (reprobe_dead_end_visits) and it takes the left. With 0 the first judgement stands and it turns
+// back again.
+TEST(Explorer, DeadEndMisjudgedOnceIsLookedAtAgainOnTheNextArrival) {
+  for (const int reprobes : {1, 0}) {
+    ToyCorridor world;
+    world.left_hidden_until_frame = 30 * 40;  // the first arrival, at about 20 s
+    ExplorerOptions o;
+    o.reprobe_dead_end_visits = reprobes;
+    Explorer explorer(o);
+    std::vector<int> far_end_turns, turn_frames;  // turns decided at the far end (x > 8)
+    for (int i = 0; i < 30 * 150 && far_end_turns.size() < 2; ++i) {
+      const std::size_t events = explorer.Events().size();
+      world.Apply(explorer.Step(world.Perceive()));
+      for (std::size_t k = events; k < explorer.Events().size(); ++k)
+        if (explorer.Events()[k].kind == ExploreEvent::Kind::kTurn && world.pose.x > 8.0) {
+          far_end_turns.push_back(explorer.Events()[k].turn_deg);
+          turn_frames.push_back(world.frame);
+        }
+    }
+    ASSERT_EQ(far_end_turns.size(), 2u) << reprobes;
+    EXPECT_LT(turn_frames[0], world.left_hidden_until_frame);  // judged while hidden...
+    EXPECT_GT(turn_frames[1], world.left_hidden_until_frame);  // ...and again once in view
+    EXPECT_EQ(far_end_turns[0], 180) << reprobes;  // the misjudged dead end
+    EXPECT_EQ(far_end_turns[1], reprobes > 0 ? 90 : 180) << reprobes;
+  }
 }
 
 TEST(Explorer, TurnsRightWhenOnlyRightIsOpen) {

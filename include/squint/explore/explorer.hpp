@@ -45,6 +45,10 @@ struct ExplorerOptions {
   double turn_tolerance_deg = 1.5;
   int settle_frames = 4;              // frames to wait after a rotation before looking
   int look_frames = 4;                // frames whose glance entropy is averaged
+  // A node whose sides were both judged walls (a dead end) is looked at again on this many later
+  // arrivals, instead of reusing that judgement: one misjudged look (the axis off at an L corner,
+  // the opening read as a wall) otherwise closes the branch for the rest of the run. 0: never.
+  int reprobe_dead_end_visits = 1;
   // A side is open when its entropy reaches this fraction of the reference entropy (a high
   // percentile of the glance entropy while following the corridor just driven, i.e. looking
   // down a corridor).
@@ -361,6 +365,7 @@ class Explorer {
   int gap_side_dir_ = -1;  // map direction of the opening that made this stop (junctions only)
   int probe_sides_[2] = {1, 3};  // relative turns (in quarter turns) to probe
   int n_probes_ = 0;
+  std::vector<int> dead_end_reprobes_;  // per node: sides looked at again (reprobe_dead_end_visits)
   int turn_to_dir_ = 0;
 
   int turns_ = 0;
