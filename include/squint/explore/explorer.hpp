@@ -128,8 +128,9 @@ struct ExplorerOptions {
   // in it (corridor-2's panels over its carpet: the sonar reads them as floor), and a gap chosen
   // toward it drives the robot into it. Walls farther off are left out: the line would close the
   // openings of junctions and corners that a robot near the corridor's centre steers into.
-  // 0 (the default) turns it off. 0.7 m: seeded starts 470 of 480 on seeds 1-4 against 462, but
-  // the default world's 45-minute coverage fell on two of four seeds (docs/explore.md, session 9).
+  // 0 (the default) turns it off. 0.7 m (measured without reprobe_dead_end_visits): seeded starts
+  // 933 of 960 on seeds 1-8 against 911, but the default world's 45-minute coverage fell on five
+  // of eight seeds, to 0.35-0.86 (docs/explore.md, session 9).
   double gap_side_wall_max_m = 0.0;
   double sonar_end_free_m = 0.85;     // end of corridor: free travel along the axis below this...
   double sonar_end_gap_m = 1.5;       // ...and no candidate heading with this much free travel
