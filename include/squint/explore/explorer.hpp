@@ -366,7 +366,7 @@ class Explorer {
   int gap_side_dir_ = -1;  // map direction of the opening that made this stop (junctions only)
   int probe_sides_[2] = {1, 3};  // relative turns (in quarter turns) to probe
   int n_probes_ = 0;
-  std::vector<int> dead_end_reprobes_;  // per node: sides looked at again (reprobe_dead_end_visits)
+  std::vector<int> dead_end_reprobes_;  // per node: arrivals whose dead-end sides were looked at again
   int turn_to_dir_ = 0;
 
   int turns_ = 0;
