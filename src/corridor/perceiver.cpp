@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "squint/core/median.hpp"
 #include "squint/core/angles.hpp"
 #include "squint/core/error.hpp"
+#include "squint/core/median.hpp"
 
 namespace squint::corridor {
 namespace {
