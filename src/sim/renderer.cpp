@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <sstream>
@@ -31,7 +32,7 @@
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #include <immintrin.h>
 #pragma GCC diagnostic pop
-#define SQUINT_RENDER_SIMD 1  // AVX-512 paths, chosen at run time (Renderer::Impl::simd)
+#define SQUINT_RENDER_SIMD 1  // AVX-512 and AVX2 paths, chosen at run time (Renderer::Impl::simd, avx512)
 #endif
 
 #include "squint/core/angles.hpp"
@@ -186,10 +187,13 @@ struct Renderer::Impl {
   std::vector<std::int8_t> noise_steps;
   // Adaptive supersampling (n >= 3, undistorted camera).
   bool adaptive = false;
-  // AVX-512 for the samples of several-plane pixels (the CPU has it, n * n a multiple of 8 and
-  // SQUINT_RENDER_NO_SIMD unset): the same operations in the same order on each lane, no fused
-  // multiply-adds, so the images are those of the scalar code bit for bit.
+  // Vector paths for the 16-sample pixels (n * n a multiple of 8, SQUINT_RENDER_NO_SIMD unset):
+  // AVX-512 (eight samples per step) where the CPU has AVX-512 F, VL and DQ, else AVX2 (four
+  // samples per step; SQUINT_RENDER_NO_AVX512 forces it on an AVX-512 CPU). The same operations
+  // in the same order on each lane, no fused multiply-adds, so the images are those of the
+  // scalar code bit for bit.
   bool simd = false;
+  bool avx512 = false;  // (simd) AVX-512, else AVX2
   std::vector<float> sample_soa;    // per pixel: its n*n samples' ca, then sa, k, rk (the same floats)
   std::vector<std::int32_t> sample_bin;  // per pixel: its samples' bins
   std::vector<double> split_fx, split_fy;
@@ -297,12 +301,15 @@ struct Renderer::Impl {
     for (Sample& s : samples) bin_of(s);
     for (Sample& s : centres) bin_of(s);
     for (Sample& s : corners) bin_of(s);
-    simd = false;
+    simd = avx512 = false;
 #ifdef SQUINT_RENDER_SIMD
     {
       const char* off = std::getenv("SQUINT_RENDER_NO_SIMD");
-      simd = adaptive && (n * n) % 8 == 0 && !(off && *off) && __builtin_cpu_supports("avx512f") &&
-             __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq");
+      const char* no512 = std::getenv("SQUINT_RENDER_NO_AVX512");
+      avx512 = !(no512 && *no512) && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+               __builtin_cpu_supports("avx512dq");
+      simd = adaptive && (n * n) % 8 == 0 && !(off && *off) && (avx512 || __builtin_cpu_supports("avx2"));
+      avx512 = simd && avx512;
     }
 #endif
     sample_soa.clear();
@@ -1236,7 +1243,9 @@ struct Renderer::Impl {
     if (simd) {
       double val[kMaxSamples];
       bool done[kMaxSamples];
-      ShadeOnPlaneSimd(static_cast<std::size_t>(s - samples.data()) / nn, surf, id, sdx, sdy, sr, val, done);
+      const std::size_t pixel = static_cast<std::size_t>(s - samples.data()) / nn;
+      if (avx512) ShadeOnPlaneSimd(pixel, surf, id, sdx, sdy, sr, val, done);
+      else ShadeOnPlaneAvx2(pixel, surf, id, sdx, sdy, sr, val, done);
       for (int i = 0; i < nn; ++i) {
         if (done[i]) {
           sum += val[i];
@@ -1860,6 +1869,430 @@ struct Renderer::Impl {
   }
 #endif
 
+#ifdef SQUINT_RENDER_SIMD
+  // --- AVX2 (CPUs without AVX-512): the functions above four samples per step, no FMA --------
+  // A mask is a vector of all-ones (true) or zero lanes: __m256d over four doubles, __m128i over
+  // four ints. Most table reads are plain loads per lane, or one broadcast where the four lanes
+  // read the same entry (walls, materials), rather than gathers (on the AMD Zen 3 development
+  // machine the gathers made this path no faster than the scalar code); a lane whose index may
+  // be invalid (masked out) reads entry 0 instead, and its result is not used.
+  // Four double lanes' mask as four int lanes.
+  [[gnu::target("avx2"), gnu::always_inline]] static inline __m128i Mask32(__m256d m) {
+    const __m128 lo = _mm256_castps256_ps128(_mm256_castpd_ps(m)), hi = _mm256_extractf128_ps(_mm256_castpd_ps(m), 1);
+    return _mm_castps_si128(_mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)));
+  }
+  // Four int lanes' mask as four double lanes.
+  [[gnu::target("avx2"), gnu::always_inline]] static inline __m256d Mask64(__m128i m) {
+    return _mm256_castsi256_pd(_mm256_cvtepi32_epi64(m));
+  }
+  [[gnu::target("avx2"), gnu::always_inline]] static inline int Bits32(__m128i m) { return _mm_movemask_ps(_mm_castsi128_ps(m)); }
+  // Whether the four int lanes are equal.
+  [[gnu::target("avx2"), gnu::always_inline]] static inline bool Uniform(__m128i x) {
+    return Bits32(_mm_cmpeq_epi32(x, _mm_shuffle_epi32(x, 0))) == 0xF;
+  }
+  // base[idx] per lane.
+  [[gnu::target("avx2"), gnu::always_inline]] static inline __m128 LoadF4(const float* base, __m128i idx) {
+    alignas(16) int i[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(i), idx);
+    return _mm_setr_ps(base[i[0]], base[i[1]], base[i[2]], base[i[3]]);
+  }
+  // base[idx] and base[idx + 1] per lane.
+  [[gnu::target("avx2"), gnu::always_inline]] static inline void LoadPairs4(const float* base, __m128i idx, __m128& c0, __m128& c1) {
+    alignas(16) int i[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(i), idx);
+    const __m128 p01 = _mm_loadh_pi(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(base + i[0]))),
+                                    reinterpret_cast<const __m64*>(base + i[1]));
+    const __m128 p23 = _mm_loadh_pi(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(base + i[2]))),
+                                    reinterpret_cast<const __m64*>(base + i[3]));
+    c0 = _mm_shuffle_ps(p01, p23, _MM_SHUFFLE(2, 0, 2, 0));
+    c1 = _mm_shuffle_ps(p01, p23, _MM_SHUFFLE(3, 1, 3, 1));
+  }
+  // Four rows of four doubles as columns.
+  [[gnu::target("avx2"), gnu::always_inline]] static inline void Transpose4(__m256d& a0, __m256d& a1, __m256d& a2, __m256d& a3) {
+    const __m256d t0 = _mm256_unpacklo_pd(a0, a1), t1 = _mm256_unpackhi_pd(a0, a1);
+    const __m256d t2 = _mm256_unpacklo_pd(a2, a3), t3 = _mm256_unpackhi_pd(a2, a3);
+    a0 = _mm256_permute2f128_pd(t0, t2, 0x20), a1 = _mm256_permute2f128_pd(t1, t3, 0x20);
+    a2 = _mm256_permute2f128_pd(t0, t2, 0x31), a3 = _mm256_permute2f128_pd(t1, t3, 0x31);
+  }
+  [[gnu::target("avx2"), gnu::always_inline]] static inline double HMin4(__m256d v) {
+    const __m128d m = _mm_min_pd(_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
+    return _mm_cvtsd_f64(_mm_min_sd(m, _mm_unpackhi_pd(m, m)));
+  }
+  [[gnu::target("avx2"), gnu::always_inline]] static inline double HMax4(__m256d v) {
+    const __m128d m = _mm_max_pd(_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
+    return _mm_cvtsd_f64(_mm_max_sd(m, _mm_unpackhi_pd(m, m)));
+  }
+
+  // WallDistance for four directions from a wall's fields (each lane its wall's), lane by lane.
+  [[gnu::target("avx2"), gnu::always_inline]] static inline __m256d WallDistance4(__m256d off, __m256d sx, __m256d sy, __m256d base,
+                                                                                 __m256d lo, __m256d hi, __m256d dx, __m256d dy) {
+    const __m256d t = _mm256_div_pd(off, _mm256_add_pd(_mm256_mul_pd(sx, dx), _mm256_mul_pd(sy, dy)));
+    const __m256d along = _mm256_add_pd(base, _mm256_mul_pd(t, _mm256_add_pd(_mm256_mul_pd(sy, dx), _mm256_mul_pd(sx, dy))));
+    const __m256d ok = _mm256_and_pd(_mm256_cmp_pd(t, _mm256_setzero_pd(), _CMP_GT_OQ),
+                                     _mm256_and_pd(_mm256_cmp_pd(along, lo, _CMP_GE_OQ), _mm256_cmp_pd(along, hi, _CMP_LE_OQ)));
+    return _mm256_blendv_pd(_mm256_set1_pd(kInf), t, ok);
+  }
+  // ... for four walls (w, -1 for none): each wall's record (lo, hi, coord, off, then base, sx,
+  // sy) loaded as two rows and transposed.
+  [[gnu::target("avx2"), gnu::always_inline]] inline __m256d WallDistance4(__m128i w, __m256d dx, __m256d dy) const {
+    if (Uniform(w)) return WallDistance4(_mm_cvtsi128_si32(w), dx, dy);
+    static_assert(offsetof(WallFast, lo) == 0 && offsetof(WallFast, hi) == 8 && offsetof(WallFast, coord) == 16 &&
+                  offsetof(WallFast, off) == 24 && offsetof(WallFast, base) == 32 && offsetof(WallFast, sx) == 40 &&
+                  offsetof(WallFast, sy) == 48 && sizeof(WallFast) >= 64);
+    alignas(16) int i[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(i), w);
+    const double* f[4] = {&wf[i[0]].lo, &wf[i[1]].lo, &wf[i[2]].lo, &wf[i[3]].lo};
+    __m256d lo = _mm256_loadu_pd(f[0]), hi = _mm256_loadu_pd(f[1]), coord = _mm256_loadu_pd(f[2]), off = _mm256_loadu_pd(f[3]);
+    __m256d base = _mm256_loadu_pd(f[0] + 4), sx = _mm256_loadu_pd(f[1] + 4), sy = _mm256_loadu_pd(f[2] + 4), rest = _mm256_loadu_pd(f[3] + 4);
+    Transpose4(lo, hi, coord, off);
+    Transpose4(base, sx, sy, rest);
+    return WallDistance4(off, sx, sy, base, lo, hi, dx, dy);
+  }
+  // ... for one wall w.
+  [[gnu::target("avx2"), gnu::always_inline]] inline __m256d WallDistance4(int w, __m256d dx, __m256d dy) const {
+    const WallFast& f = wf[w];
+    return WallDistance4(_mm256_set1_pd(f.off), _mm256_set1_pd(f.sx), _mm256_set1_pd(f.sy), _mm256_set1_pd(f.base),
+                         _mm256_set1_pd(f.lo), _mm256_set1_pd(f.hi), dx, dy);
+  }
+
+  // GridIndex for four floor points, in floats from the start of `cells` (the cell's words).
+  [[gnu::target("avx2"), gnu::always_inline]] inline __m128i GridWord4(__m256d x, __m256d y) const {
+    constexpr int kCellStride = sizeof(Cell) / sizeof(float);
+    __m128i gi = _mm256_cvttpd_epi32(_mm256_mul_pd(_mm256_sub_pd(x, _mm256_set1_pd(gx0)), _mm256_set1_pd(1.0 / kCell)));
+    __m128i gj = _mm256_cvttpd_epi32(_mm256_mul_pd(_mm256_sub_pd(y, _mm256_set1_pd(gy0)), _mm256_set1_pd(1.0 / kCell)));
+    gi = _mm_min_epi32(_mm_max_epi32(gi, _mm_setzero_si128()), _mm_set1_epi32(gnx - 1));
+    gj = _mm_min_epi32(_mm_max_epi32(gj, _mm_setzero_si128()), _mm_set1_epi32(gny - 1));
+    return _mm_mullo_epi32(_mm_add_epi32(_mm_mullo_epi32(gj, _mm_set1_epi32(gnx)), gi), _mm_set1_epi32(kCellStride));
+  }
+
+  // WallIrradiance for four points (along, z) of the wall lit by `wl` (lanes outside m read nothing).
+  [[gnu::target("avx2"), gnu::always_inline]] inline __m256d WallIrradiance4(const WallLight& wl, __m256d along, __m256d z, __m256d m) const {
+    const __m256d zero = _mm256_setzero_pd(), wall_s = _mm256_set1_pd(1.0 / kWallCell), fmax = _mm256_set1_pd(wl.fu_max);
+    __m256d fu = _mm256_mul_pd(_mm256_sub_pd(along, _mm256_set1_pd(wl.lo)), wall_s);
+    fu = _mm256_blendv_pd(fu, zero, _mm256_cmp_pd(fu, zero, _CMP_LT_OQ));
+    fu = _mm256_blendv_pd(fu, fmax, _mm256_cmp_pd(fmax, fu, _CMP_LT_OQ));
+    const __m128i iu = _mm256_cvttpd_epi32(fu);
+    __m128i iz = _mm256_cvttpd_epi32(_mm256_add_pd(_mm256_mul_pd(z, wall_s), _mm256_set1_pd(0.5)));
+    iz = _mm_min_epi32(_mm_max_epi32(iz, _mm_setzero_si128()), _mm_set1_epi32(wl.nz - 1));
+    const __m128i cell = _mm_and_si128(_mm_add_epi32(_mm_mullo_epi32(iz, _mm_set1_epi32(wl.nu)), iu), Mask32(m));
+    __m128 c0, c1;
+    LoadPairs4(wl.irr, cell, c0, c1);
+    return _mm256_add_pd(_mm256_cvtps_pd(c0), _mm256_mul_pd(_mm256_sub_pd(fu, _mm256_cvtepi32_pd(iu)), _mm256_cvtps_pd(_mm_sub_ps(c1, c0))));
+  }
+
+  // PlanesSimd, four samples per AVX2 step.
+  [[gnu::target("avx2")]] bool PlanesAvx2(std::size_t pixel, bool by_bins, int np, const std::uint32_t* keys, const std::uint32_t* kq,
+                                          const bool* pq, double* sdx, double* sdy, double* sr, int* sid, Surf* ss, int* sq,
+                                          int* count, PlainAccum* acc) const {
+    const int nn = n * n;
+    const float* soa = &sample_soa[pixel * nn * 4];
+    const std::int32_t* bins_p = &sample_bin[pixel * nn];
+    const __m256d cy = _mm256_set1_pd(cyaw), sy = _mm256_set1_pd(syaw), inf = _mm256_set1_pd(kInf), zero = _mm256_setzero_pd();
+    const __m256d ceil_rel = _mm256_set1_pd(frame_ceiling - cam_h);
+    const __m128i wall_surf = _mm_set1_epi32(static_cast<int>(Surf::kWall));
+    const __m128i floor_key = _mm_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(Surf::kFloor) << 24 | 0xFFFFFFu));
+    const __m128i ceil_key = _mm_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(Surf::kCeiling) << 24 | 0xFFFFFFu));
+    for (int i0 = 0; i0 < nn; i0 += 4) {
+      const __m256d ca = _mm256_cvtps_pd(_mm_loadu_ps(soa + i0)), sa = _mm256_cvtps_pd(_mm_loadu_ps(soa + nn + i0));
+      const __m256d k = _mm256_cvtps_pd(_mm_loadu_ps(soa + 2 * nn + i0)), rk = _mm256_cvtps_pd(_mm_loadu_ps(soa + 3 * nn + i0));
+      const __m256d dx = _mm256_sub_pd(_mm256_mul_pd(cy, ca), _mm256_mul_pd(sy, sa));
+      const __m256d dy = _mm256_add_pd(_mm256_mul_pd(sy, ca), _mm256_mul_pd(cy, sa));
+      _mm256_storeu_pd(sdx + i0, dx);
+      _mm256_storeu_pd(sdy + i0, dy);
+      __m256d r;
+      __m128i id, key, surf, traced = _mm_setzero_si128();  // (by_bins) a sliver wall inside the bin: trace the sample
+      if (by_bins) {
+        // edge_wall[bin] and edge_wall[bin + 1] per lane
+        __m128 p01 = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&edge_wall[bins_p[i0]])));
+        __m128 p23 = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&edge_wall[bins_p[i0 + 2]])));
+        p01 = _mm_loadh_pi(p01, reinterpret_cast<const __m64*>(&edge_wall[bins_p[i0 + 1]]));
+        p23 = _mm_loadh_pi(p23, reinterpret_cast<const __m64*>(&edge_wall[bins_p[i0 + 3]]));
+        const __m128i w0 = _mm_castps_si128(_mm_shuffle_ps(p01, p23, _MM_SHUFFLE(2, 0, 2, 0)));
+        const __m128i w1 = _mm_castps_si128(_mm_shuffle_ps(p01, p23, _MM_SHUFFLE(3, 1, 3, 1)));
+        const __m256d t0 = WallDistance4(w0, dx, dy), t1 = WallDistance4(w1, dx, dy);
+        // w1 == w0 gives t1 == t0 bit for bit: the selection then keeps w0 and t0, as the scalar code does.
+        const __m256d first = _mm256_cmp_pd(t0, t1, _CMP_LE_OQ);
+        id = _mm_blendv_epi8(w1, w0, Mask32(first));
+        r = _mm256_blendv_pd(t1, t0, first);
+        traced = Mask32(_mm256_cmp_pd(r, inf, _CMP_EQ_OQ));
+        const __m256d rc = _mm256_mul_pd(ceil_rel, rk);
+        const __m256d fl = _mm256_and_pd(_mm256_cmp_pd(k, zero, _CMP_LT_OQ), _mm256_cmp_pd(rk, r, _CMP_LT_OQ));
+        const __m256d ce = _mm256_andnot_pd(fl, _mm256_and_pd(_mm256_cmp_pd(k, zero, _CMP_GT_OQ), _mm256_cmp_pd(rc, r, _CMP_LT_OQ)));
+        r = _mm256_blendv_pd(r, rk, fl);
+        r = _mm256_blendv_pd(r, rc, ce);
+        const __m128i fl32 = Mask32(fl), ce32 = Mask32(ce);
+        surf = _mm_blendv_epi8(wall_surf, _mm_set1_epi32(static_cast<int>(Surf::kFloor)), fl32);
+        surf = _mm_blendv_epi8(surf, _mm_set1_epi32(static_cast<int>(Surf::kCeiling)), ce32);
+        key = _mm_or_si128(_mm_slli_epi32(wall_surf, 24), id);
+        key = _mm_blendv_epi8(key, floor_key, fl32);
+        key = _mm_blendv_epi8(key, ceil_key, ce32);
+      } else {
+        r = inf;
+        key = _mm_setzero_si128();
+        for (int q = 0; q < np; ++q) {
+          __m256d rq;
+          switch (static_cast<Surf>(keys[q] >> 24)) {
+            case Surf::kFloor: rq = _mm256_blendv_pd(inf, rk, _mm256_cmp_pd(k, zero, _CMP_LT_OQ)); break;
+            case Surf::kCeiling: rq = _mm256_blendv_pd(inf, _mm256_mul_pd(ceil_rel, rk), _mm256_cmp_pd(k, zero, _CMP_GT_OQ)); break;
+            case Surf::kWall: rq = WallDistance4(static_cast<int>(keys[q] & 0xFFFFFFu), dx, dy); break;
+            default: rq = inf; break;
+          }
+          const __m256d nearer = _mm256_cmp_pd(rq, r, _CMP_LT_OQ);
+          r = _mm256_blendv_pd(r, rq, nearer);
+          key = _mm_blendv_epi8(key, _mm_set1_epi32(static_cast<int>(keys[q])), Mask32(nearer));
+        }
+        if (_mm256_movemask_pd(_mm256_cmp_pd(r, inf, _CMP_EQ_OQ))) return false;
+        surf = _mm_srli_epi32(key, 24);
+        id = _mm_blendv_epi8(_mm_set1_epi32(-1), _mm_and_si128(key, _mm_set1_epi32(0xFFFFFF)), _mm_cmpeq_epi32(surf, wall_surf));
+      }
+      if (!uniform_ceiling && Bits32(_mm_andnot_si128(traced, _mm_cmpeq_epi32(surf, _mm_set1_epi32(static_cast<int>(Surf::kCeiling))))))
+        return false;
+      __m128i q = _mm_set1_epi32(4);
+      for (int c = 3; c >= 0; --c) q = _mm_blendv_epi8(q, _mm_set1_epi32(c), _mm_cmpeq_epi32(key, _mm_set1_epi32(static_cast<int>(kq[c]))));
+      for (int c = 0; c < 4; ++c)
+        if (!pq[c]) q = _mm_blendv_epi8(q, _mm_set1_epi32(4), _mm_cmpeq_epi32(q, _mm_set1_epi32(c)));
+      q = _mm_or_si128(q, traced);  // -1
+      _mm256_storeu_pd(sr + i0, r);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(sid + i0), id);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(sq + i0), q);
+      static_assert(sizeof(Surf) == 1);
+      const int surf_bytes = _mm_cvtsi128_si32(_mm_shuffle_epi8(surf, _mm_setr_epi8(0, 4, 8, 12, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1)));
+      std::memcpy(ss + i0, &surf_bytes, 4);
+      for (int c = 0; c < 5; ++c) count[c] += __builtin_popcount(Bits32(_mm_cmpeq_epi32(q, _mm_set1_epi32(c))));
+      count[4] += __builtin_popcount(Bits32(traced));
+    }
+    // Each plain plane's samples: light-map values lane by lane, summed in sample order.
+    double e[kMaxSamples];
+    const __m256d pxv = _mm256_set1_pd(px), pyv = _mm256_set1_pd(py), ninf = _mm256_set1_pd(-kInf);
+    for (int qq = 0; qq < np; ++qq) {
+      if (count[qq] == 0) continue;
+      PlainAccum& a = acc[qq];
+      const auto psurf = static_cast<Surf>(keys[qq] >> 24);
+      __m256d u_lo = inf, u_hi = ninf, v_lo = inf, v_hi = ninf;
+      for (int i0 = 0; i0 < nn; i0 += 4) {
+        const __m128i m32 = _mm_cmpeq_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(sq + i0)), _mm_set1_epi32(qq));
+        if (!Bits32(m32)) continue;
+        const __m256d m = Mask64(m32);
+        const __m256d r = _mm256_loadu_pd(sr + i0);
+        const __m256d x = _mm256_add_pd(pxv, _mm256_mul_pd(_mm256_loadu_pd(sdx + i0), r));
+        const __m256d y = _mm256_add_pd(pyv, _mm256_mul_pd(_mm256_loadu_pd(sdy + i0), r));
+        __m256d ev, tu, tv;
+        if (psurf == Surf::kWall) {
+          const int wid = static_cast<int>(keys[qq] & 0xFFFFFFu);
+          const __m256d k = _mm256_cvtps_pd(_mm_loadu_ps(soa + 2 * nn + i0));
+          const __m256d z = _mm256_add_pd(_mm256_set1_pd(cam_h), _mm256_mul_pd(k, r));
+          tu = wf[wid].along_x ? x : y;
+          tv = z;
+          ev = WallIrradiance4(wall_light[wid], tu, z, m);
+        } else {
+          tu = x;
+          tv = y;
+          const __m128i gidx = GridWord4(x, y);
+          const __m256d irr = _mm256_cvtps_pd(LoadF4(&cells[0].irr, gidx));  // (every lane's index is in the grid)
+          ev = psurf == Surf::kCeiling ? _mm256_add_pd(_mm256_set1_pd(world.ambient), _mm256_mul_pd(_mm256_set1_pd(kCeilingBounce), irr)) : irr;
+        }
+        _mm256_storeu_pd(e + i0, ev);
+        // (min(tu, lo) is std::min(lo, tu): lo unless tu < lo)
+        u_lo = _mm256_blendv_pd(u_lo, _mm256_min_pd(tu, u_lo), m), u_hi = _mm256_blendv_pd(u_hi, _mm256_max_pd(tu, u_hi), m);
+        v_lo = _mm256_blendv_pd(v_lo, _mm256_min_pd(tv, v_lo), m), v_hi = _mm256_blendv_pd(v_hi, _mm256_max_pd(tv, v_hi), m);
+      }
+      double e_sum = 0;
+      for (int i = 0; i < nn; ++i)
+        if (sq[i] == qq) e_sum += e[i];
+      a.e_sum = e_sum;
+      a.u_lo = HMin4(u_lo), a.u_hi = HMax4(u_hi), a.v_lo = HMin4(v_lo), a.v_hi = HMax4(v_hi);
+      a.count = count[qq];
+    }
+    return true;
+  }
+
+  // SplitSimd, four samples per AVX2 step.
+  [[gnu::target("avx2")]] int SplitAvx2(const double* g, const double* gx, const double* gy, const double* gz, double h_rel, int w,
+                                        bool along_x, double& pu_lo, double& pu_hi, double& pv_lo, double& pv_hi, double& pe,
+                                        double& wu_lo, double& wu_hi, double& wv_lo, double& wv_hi, double& we) const {
+    const int nn = n * n;
+    const WallSegment& ws = world.walls[w];
+    const WallLight& wl = wall_light[w];
+    const double wall_c = ws.coord, wall_p = along_x ? py : px, wall_a = along_x ? px : py;
+    const __m256d zero = _mm256_setzero_pd(), inf = _mm256_set1_pd(kInf), ninf = _mm256_set1_pd(-kInf);
+    const __m256d g0 = _mm256_set1_pd(g[0]), g20 = _mm256_set1_pd(g[2] - g[0]), g1 = _mm256_set1_pd(g[1]), g31 = _mm256_set1_pd(g[3] - g[1]);
+    const __m256d x0 = _mm256_set1_pd(gx[0]), x20 = _mm256_set1_pd(gx[2] - gx[0]), x1 = _mm256_set1_pd(gx[1]), x31 = _mm256_set1_pd(gx[3] - gx[1]);
+    const __m256d y0 = _mm256_set1_pd(gy[0]), y20 = _mm256_set1_pd(gy[2] - gy[0]), y1 = _mm256_set1_pd(gy[1]), y31 = _mm256_set1_pd(gy[3] - gy[1]);
+    const __m256d z0 = _mm256_set1_pd(gz[0]), z20 = _mm256_set1_pd(gz[2] - gz[0]), z1 = _mm256_set1_pd(gz[1]), z31 = _mm256_set1_pd(gz[3] - gz[1]);
+    const __m256d hv = _mm256_set1_pd(h_rel), pxv = _mm256_set1_pd(px), pyv = _mm256_set1_pd(py), camz = _mm256_set1_pd(cam_h);
+    const __m256d wcp = _mm256_set1_pd(wall_c - wall_p), wav = _mm256_set1_pd(wall_a);
+    __m256d pul = inf, puh = ninf, pvl = inf, pvh = ninf, wul = inf, wuh = ninf, wvl = inf, wvh = ninf;
+    double pev[kMaxSamples], wev[kMaxSamples];
+    int on_bits[kMaxSamples / 4];
+    int on_plane = 0;
+    for (int i0 = 0; i0 < nn; i0 += 4) {
+      const __m256d fx = _mm256_loadu_pd(&split_fx[i0]), fy = _mm256_loadu_pd(&split_fy[i0]);
+      // Per row (fy) the left and right ends, then along the row (fx), as the scalar loop steps.
+      const __m256d g_l = _mm256_add_pd(g0, _mm256_mul_pd(fy, g20)), g_r = _mm256_add_pd(g1, _mm256_mul_pd(fy, g31));
+      const __m256d x_l = _mm256_add_pd(x0, _mm256_mul_pd(fy, x20)), x_r = _mm256_add_pd(x1, _mm256_mul_pd(fy, x31));
+      const __m256d y_l = _mm256_add_pd(y0, _mm256_mul_pd(fy, y20)), y_r = _mm256_add_pd(y1, _mm256_mul_pd(fy, y31));
+      const __m256d z_l = _mm256_add_pd(z0, _mm256_mul_pd(fy, z20)), z_r = _mm256_add_pd(z1, _mm256_mul_pd(fy, z31));
+      const __m256d sdx = _mm256_add_pd(x_l, _mm256_mul_pd(fx, _mm256_sub_pd(x_r, x_l)));
+      const __m256d sdy = _mm256_add_pd(y_l, _mm256_mul_pd(fx, _mm256_sub_pd(y_r, y_l)));
+      const __m256d sdz = _mm256_add_pd(z_l, _mm256_mul_pd(fx, _mm256_sub_pd(z_r, z_l)));
+      const __m256d on = _mm256_cmp_pd(_mm256_add_pd(g_l, _mm256_mul_pd(fx, _mm256_sub_pd(g_r, g_l))), zero, _CMP_GT_OQ);
+      const int on_m = _mm256_movemask_pd(on);
+      on_bits[i0 / 4] = on_m;
+      on_plane += __builtin_popcount(on_m);
+      if (on_m) {  // the floor or ceiling plane
+        const __m256d t = _mm256_div_pd(hv, sdz);
+        const __m256d x = _mm256_add_pd(pxv, _mm256_mul_pd(t, sdx)), y = _mm256_add_pd(pyv, _mm256_mul_pd(t, sdy));
+        pul = _mm256_blendv_pd(pul, _mm256_min_pd(x, pul), on), puh = _mm256_blendv_pd(puh, _mm256_max_pd(x, puh), on);
+        pvl = _mm256_blendv_pd(pvl, _mm256_min_pd(y, pvl), on), pvh = _mm256_blendv_pd(pvh, _mm256_max_pd(y, pvh), on);
+        const __m128i gidx = GridWord4(x, y);
+        _mm256_storeu_pd(pev + i0, _mm256_cvtps_pd(LoadF4(&cells[0].irr, gidx)));  // (every lane's index is in the grid)
+      }
+      if (on_m != 0xF) {  // the wall
+        const __m256d off = _mm256_xor_pd(on, _mm256_castsi256_pd(_mm256_set1_epi64x(-1)));
+        const __m256d across = along_x ? sdy : sdx, other = along_x ? sdx : sdy;
+        const __m256d t = _mm256_div_pd(wcp, across);
+        const __m256d along = _mm256_add_pd(wav, _mm256_mul_pd(t, other)), z = _mm256_add_pd(camz, _mm256_mul_pd(t, sdz));
+        wul = _mm256_blendv_pd(wul, _mm256_min_pd(along, wul), off), wuh = _mm256_blendv_pd(wuh, _mm256_max_pd(along, wuh), off);
+        wvl = _mm256_blendv_pd(wvl, _mm256_min_pd(z, wvl), off), wvh = _mm256_blendv_pd(wvh, _mm256_max_pd(z, wvh), off);
+        _mm256_storeu_pd(wev + i0, WallIrradiance4(wl, along, z, off));
+      }
+    }
+    double pe_sum = 0, we_sum = 0;
+    for (int i = 0; i < nn; ++i) {
+      if (on_bits[i / 4] >> (i % 4) & 1) pe_sum += pev[i];
+      else we_sum += wev[i];
+    }
+    pe = pe_sum, we = we_sum;
+    pu_lo = HMin4(pul), pu_hi = HMax4(puh), pv_lo = HMin4(pvl), pv_hi = HMax4(pvh);
+    wu_lo = HMin4(wul), wu_hi = HMax4(wuh), wv_lo = HMin4(wvl), wv_hi = HMax4(wvh);
+    return on_plane;
+  }
+
+  // TexMaterialSimd for four samples (lanes outside ok read nothing and give 0, unless all four
+  // lanes name one material: then every lane's values are read).
+  [[gnu::target("avx2"), gnu::always_inline]] inline void TexMaterialAvx2(__m128i mat, __m256d u, __m256d v, __m256d ok, __m256d& texv,
+                                                                          __m256d& albedo, __m256d& emission) const {
+    const __m256d big = _mm256_set1_pd(16777216.0), zero = _mm256_setzero_pd();
+    const __m128i m127 = _mm_set1_epi32(detail::kTexSize - 1);
+    const double* mb = reinterpret_cast<const double*>(mats.data());
+    const float* tfb = reinterpret_cast<const float*>(texels_fast.data());
+    static_assert(sizeof(TexelsFast) == 16 && detail::kTexSize == 128);
+    if (Uniform(mat)) {  // one material (every lane's, valid): its fields broadcast, the texels loaded per lane
+      const int m = _mm_cvtsi128_si32(mat);
+      const TexelsFast& tf = texels_fast[m];
+      const __m256d inv1 = _mm256_set1_pd(tf.inv_texel_m);
+      const __m128i iu = _mm_and_si128(_mm256_cvttpd_epi32(_mm256_add_pd(_mm256_mul_pd(u, inv1), big)), m127);
+      const __m128i iv = _mm_and_si128(_mm256_cvttpd_epi32(_mm256_add_pd(_mm256_mul_pd(v, inv1), big)), m127);
+      alignas(16) int ti[4];
+      _mm_store_si128(reinterpret_cast<__m128i*>(ti), _mm_add_epi32(_mm_slli_epi32(iv, 7), iu));
+      const __m128i texel = _mm_setr_epi32(tf.texels[ti[0]], tf.texels[ti[1]], tf.texels[ti[2]], tf.texels[ti[3]]);
+      texv = _mm256_cvtps_pd(_mm_mul_ps(_mm_cvtepi32_ps(texel), _mm_set1_ps(tf.gain)));
+      albedo = _mm256_set1_pd(mats[m].albedo);
+      emission = _mm256_set1_pd(mats[m].emission);
+      return;
+    }
+    const __m128i ok32 = Mask32(ok);
+    const __m128i m4 = _mm_slli_epi32(mat, 2);
+    const __m256d inv = _mm256_cvtps_pd(_mm_mask_i32gather_ps(_mm_setzero_ps(), tfb + 2, m4, _mm_castsi128_ps(ok32), 4));
+    const __m128 gain = _mm_mask_i32gather_ps(_mm_setzero_ps(), tfb + 3, m4, _mm_castsi128_ps(ok32), 4);
+    const __m256i tp = _mm256_mask_i32gather_epi64(_mm256_setzero_si256(), reinterpret_cast<const long long*>(texels_fast.data()),
+                                                   _mm_slli_epi32(mat, 1), _mm256_castpd_si256(ok), 8);
+    const __m128i iu = _mm_and_si128(_mm256_cvttpd_epi32(_mm256_add_pd(_mm256_mul_pd(u, inv), big)), m127);
+    const __m128i iv = _mm_and_si128(_mm256_cvttpd_epi32(_mm256_add_pd(_mm256_mul_pd(v, inv), big)), m127);
+    const __m256i addr = _mm256_add_epi64(tp, _mm256_cvtepi32_epi64(_mm_add_epi32(_mm_slli_epi32(iv, 7), iu)));
+    const __m128i texel = _mm_and_si128(_mm256_mask_i64gather_epi32(_mm_setzero_si128(), nullptr, addr, ok32, 1), _mm_set1_epi32(0xFF));
+    texv = _mm256_cvtps_pd(_mm_mul_ps(_mm_cvtepi32_ps(texel), gain));
+    const __m128i m3 = _mm_mullo_epi32(mat, _mm_set1_epi32(3));
+    albedo = _mm256_mask_i32gather_pd(zero, mb + offsetof(MatFast, albedo) / 8, m3, ok, 8);
+    emission = _mm256_mask_i32gather_pd(zero, mb + offsetof(MatFast, emission) / 8, m3, ok, 8);
+  }
+
+  // ShadeOnPlaneSimd, four samples per AVX2 step.
+  [[gnu::target("avx2")]] void ShadeOnPlaneAvx2(std::size_t pixel, Surf surf, int id, double* sdx, double* sdy, double* sr,
+                                                double* val, bool* done) const {
+    const int nn = n * n;
+    bool wall_ok = false, wall_x = true;
+    const WallLight* wl = nullptr;
+    int wall_mat = 0, d_begin = 0, d_end = 0;
+    if (surf == Surf::kWall) {
+      const WallSegment& ws = world.walls[id];
+      wall_mat = ws.material;
+      wall_x = ws.along_x;
+      wl = &wall_light[id];
+      d_begin = decal_begin[id], d_end = decal_end[id];
+      wall_ok = mats[wall_mat].mirror <= 0;
+      for (int i = d_begin; i < d_end; ++i) wall_ok = wall_ok && mats[decals[i].material].mirror <= 0;
+    }
+    if (surf != Surf::kFloor && surf != Surf::kCeiling && !wall_ok) {
+      std::fill(done, done + nn, false);
+      return;
+    }
+    const float* soa = &sample_soa[pixel * nn * 4];
+    const __m256d inf = _mm256_set1_pd(kInf), zero = _mm256_setzero_pd();
+    const __m256d pxv = _mm256_set1_pd(px), pyv = _mm256_set1_pd(py);
+    const float* cell_f = reinterpret_cast<const float*>(cells.data());
+    for (int i0 = 0; i0 < nn; i0 += 4) {
+      const __m256d r = _mm256_loadu_pd(sr + i0);
+      __m256d ok = _mm256_cmp_pd(r, inf, _CMP_NEQ_UQ);
+      const __m256d dx = _mm256_loadu_pd(sdx + i0), dy = _mm256_loadu_pd(sdy + i0);
+      const __m256d x = _mm256_add_pd(pxv, _mm256_mul_pd(dx, r)), y = _mm256_add_pd(pyv, _mm256_mul_pd(dy, r));
+      __m256d res = zero;
+      if (surf == Surf::kFloor || surf == Surf::kCeiling) {
+        // GridIndex and the cell's four words per lane (every lane's index is in the grid),
+        // transposed: irradiance, materials, flat item, light panel.
+        alignas(16) int cw[4];
+        _mm_store_si128(reinterpret_cast<__m128i*>(cw), GridWord4(x, y));
+        __m128 irr_f = _mm_loadu_ps(cell_f + cw[0]), mats_f = _mm_loadu_ps(cell_f + cw[1]);
+        __m128 flat_f = _mm_loadu_ps(cell_f + cw[2]), light_f = _mm_loadu_ps(cell_f + cw[3]);
+        _MM_TRANSPOSE4_PS(irr_f, mats_f, flat_f, light_f);
+        const __m128i mats_w = _mm_castps_si128(mats_f);
+        __m128i ok32 = Mask32(ok);
+        __m128i mat;
+        if (surf == Surf::kFloor) {
+          const __m128i flat_w = _mm_castps_si128(flat_f);
+          ok32 = _mm_and_si128(ok32, _mm_cmpeq_epi32(_mm_srai_epi32(_mm_slli_epi32(flat_w, 16), 16), _mm_set1_epi32(-1)));
+          mat = _mm_srai_epi32(_mm_slli_epi32(mats_w, 16), 16);  // floor_mat (low half)
+        } else {
+          ok32 = _mm_and_si128(ok32, _mm_cmplt_epi32(_mm_castps_si128(light_f), _mm_setzero_si128()));
+          mat = _mm_srai_epi32(mats_w, 16);  // ceil_mat (high half)
+        }
+        ok = Mask64(ok32);
+        if (Bits32(ok32)) {
+          __m256d texv, albedo, emission;
+          TexMaterialAvx2(mat, x, y, ok, texv, albedo, emission);
+          const __m256d irr = _mm256_cvtps_pd(irr_f);
+          const __m256d e = surf == Surf::kFloor ? irr : _mm256_add_pd(_mm256_set1_pd(world.ambient), _mm256_mul_pd(_mm256_set1_pd(kCeilingBounce), irr));
+          res = _mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(albedo, texv), e), emission);
+        }
+      } else {  // a wall that is no mirror
+        const __m256d k = _mm256_cvtps_pd(_mm_loadu_ps(soa + 2 * nn + i0));
+        const __m256d along = wall_x ? x : y;
+        const __m256d z = _mm256_add_pd(_mm256_set1_pd(cam_h), _mm256_mul_pd(k, r));
+        __m128i mat = _mm_set1_epi32(wall_mat);
+        __m256d tu = along, tv = z;
+        __m256d free = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+        for (int d = d_begin; d < d_end && _mm256_movemask_pd(free); ++d) {
+          const Decal& dc = decals[d];
+          const __m256d in = _mm256_and_pd(
+              _mm256_and_pd(free, _mm256_and_pd(_mm256_cmp_pd(along, _mm256_set1_pd(dc.lo), _CMP_GE_OQ), _mm256_cmp_pd(along, _mm256_set1_pd(dc.hi), _CMP_LE_OQ))),
+              _mm256_and_pd(_mm256_cmp_pd(z, _mm256_set1_pd(dc.z0), _CMP_GE_OQ), _mm256_cmp_pd(z, _mm256_set1_pd(dc.z1), _CMP_LE_OQ)));
+          mat = _mm_blendv_epi8(mat, _mm_set1_epi32(dc.material), Mask32(in));
+          tu = _mm256_blendv_pd(tu, _mm256_sub_pd(along, _mm256_set1_pd(dc.lo)), in);
+          tv = _mm256_blendv_pd(tv, _mm256_sub_pd(_mm256_set1_pd(dc.z1), z), in);
+          free = _mm256_andnot_pd(in, free);
+        }
+        const __m256d e = WallIrradiance4(*wl, along, z, ok);
+        __m256d texv, albedo, emission;
+        TexMaterialAvx2(mat, tu, tv, ok, texv, albedo, emission);
+        res = _mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(albedo, texv), e), _mm256_mul_pd(emission, texv));
+      }
+      _mm256_storeu_pd(val + i0, res);
+      const int bits = _mm256_movemask_pd(ok);
+      for (int k = 0; k < 4; ++k) done[i0 + k] = bits >> k & 1;
+    }
+  }
+#endif
+
   // Mean radiance of a pixel whose corners see several planes and no obstacle can stand in it:
   // each sample takes the nearest of the corners' planes (no tracing). Where a wall edge lies
   // in the pixel, or a wall thinner than the pixel could hide between floor and ceiling
@@ -1909,7 +2342,9 @@ struct Renderer::Impl {
     int count[5] = {0, 0, 0, 0, 0};
 #ifdef SQUINT_RENDER_SIMD
     if (simd) {
-      if (!PlanesSimd(static_cast<std::size_t>(s - samples.data()) / nn, by_bins, np, keys, kq, pq, sdx, sdy, sr, sid, ss, sq, count, acc))
+      const std::size_t pixel = static_cast<std::size_t>(s - samples.data()) / nn;
+      if (!(avx512 ? PlanesSimd(pixel, by_bins, np, keys, kq, pq, sdx, sdy, sr, sid, ss, sq, count, acc)
+                   : PlanesAvx2(pixel, by_bins, np, keys, kq, pq, sdx, sdy, sr, sid, ss, sq, count, acc)))
         return PixelTraced(s0);
       goto shade_rest;
     }
@@ -2056,7 +2491,8 @@ struct Renderer::Impl {
     int on_plane = 0;
 #ifdef SQUINT_RENDER_SIMD
     if (simd) {
-      on_plane = SplitSimd(g, gx, gy, gz, h_rel, w, ws.along_x, pu_lo, pu_hi, pv_lo, pv_hi, pe, wu_lo, wu_hi, wv_lo, wv_hi, we);
+      on_plane = avx512 ? SplitSimd(g, gx, gy, gz, h_rel, w, ws.along_x, pu_lo, pu_hi, pv_lo, pv_hi, pe, wu_lo, wu_hi, wv_lo, wv_hi, we)
+                        : SplitAvx2(g, gx, gy, gz, h_rel, w, ws.along_x, pu_lo, pu_hi, pv_lo, pv_hi, pe, wu_lo, wu_hi, wv_lo, wv_hi, we);
     } else
 #endif
     {

@@ -6,7 +6,7 @@
 // writes the digests (one line per view: name and hash) for `cmp` against those of the code
 // before the change. Without the variable the test checks that rendering is deterministic (two
 // renderers of one world give the same digests, rendering a view again gives the same bytes).
-// A second test compares the renderer's AVX-512 paths with its scalar code.
+// A second test compares the renderer's vector paths (AVX-512, AVX2) with its scalar code.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -141,10 +141,19 @@ std::vector<std::string> AllDigests(bool full) {
   return lines;
 }
 
-// The renderer's AVX-512 paths (taken where the CPU has them) against its scalar code (forced by
-// SQUINT_RENDER_NO_SIMD when the renderer is built): the same bytes over glances of every
-// built-in world, with labels and ranges, at two noise sigmas. (Without AVX-512 both are scalar.)
+// The renderer's vector paths (taken where the CPU has them: AVX-512, else AVX2) against its
+// scalar code (forced by SQUINT_RENDER_NO_SIMD when the renderer is built), and on an AVX-512 CPU
+// its AVX2 paths too (SQUINT_RENDER_NO_AVX512): the same bytes over glances of every built-in
+// world, with labels and ranges, at two noise sigmas. (Without AVX2 all are scalar.)
 TEST(RenderDigest, SimdAndScalarPathsGiveTheSameBytes) {
+#if defined(__GNUC__) && defined(__x86_64__)
+  const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq");
+  const bool avx2 = __builtin_cpu_supports("avx2");
+#else
+  const bool avx512 = false, avx2 = false;
+#endif
+  std::printf("vector path compared with the scalar code: %s%s\n", avx512 ? "AVX-512" : avx2 ? "AVX2" : "none (scalar)",
+              avx512 && avx2 ? ", and AVX2" : "");
   for (const std::string& name : BuiltinWorldNames()) {
     const World w = LoadWorld(name);
     const std::vector<Pose2> poses = WorldPoses(w, 6);
@@ -156,6 +165,13 @@ TEST(RenderDigest, SimdAndScalarPathsGiveTheSameBytes) {
       Digest(w, name, v, poses, nullptr, scalar);
       ::unsetenv("SQUINT_RENDER_NO_SIMD");
       EXPECT_EQ(simd, scalar) << name << " " << v.name;
+      if (avx512 && avx2) {
+        std::vector<std::string> simd_avx2;
+        ::setenv("SQUINT_RENDER_NO_AVX512", "1", 1);
+        Digest(w, name, v, poses, nullptr, simd_avx2);
+        ::unsetenv("SQUINT_RENDER_NO_AVX512");
+        EXPECT_EQ(simd_avx2, scalar) << name << " " << v.name << " (AVX2)";
+      }
     }
   }
 }
