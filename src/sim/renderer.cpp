@@ -2009,8 +2009,9 @@ struct Renderer::Impl {
         p23 = _mm_loadh_pi(p23, reinterpret_cast<const __m64*>(&edge_wall[bins_p[i0 + 3]]));
         const __m128i w0 = _mm_castps_si128(_mm_shuffle_ps(p01, p23, _MM_SHUFFLE(2, 0, 2, 0)));
         const __m128i w1 = _mm_castps_si128(_mm_shuffle_ps(p01, p23, _MM_SHUFFLE(3, 1, 3, 1)));
-        const __m256d t0 = WallDistance4(w0, dx, dy), t1 = WallDistance4(w1, dx, dy);
         // w1 == w0 gives t1 == t0 bit for bit: the selection then keeps w0 and t0, as the scalar code does.
+        const __m256d t0 = WallDistance4(w0, dx, dy);
+        const __m256d t1 = Bits32(_mm_cmpeq_epi32(w0, w1)) == 0xF ? t0 : WallDistance4(w1, dx, dy);
         const __m256d first = _mm256_cmp_pd(t0, t1, _CMP_LE_OQ);
         id = _mm_blendv_epi8(w1, w0, Mask32(first));
         r = _mm256_blendv_pd(t1, t0, first);
@@ -2168,43 +2169,32 @@ struct Renderer::Impl {
     return on_plane;
   }
 
-  // TexMaterialSimd for four samples (lanes outside ok read nothing and give 0, unless all four
-  // lanes name one material: then every lane's values are read).
-  [[gnu::target("avx2"), gnu::always_inline]] inline void TexMaterialAvx2(__m128i mat, __m256d u, __m256d v, __m256d ok, __m256d& texv,
-                                                                          __m256d& albedo, __m256d& emission) const {
-    const __m256d big = _mm256_set1_pd(16777216.0), zero = _mm256_setzero_pd();
+  // TexMaterialSimd for four samples, every lane's material valid (each lane is read): one
+  // material's fields broadcast, or each lane's loaded.
+  [[gnu::target("avx2"), gnu::always_inline]] inline void TexMaterialAvx2(__m128i mat, __m256d u, __m256d v, __m256d& texv, __m256d& albedo,
+                                                                          __m256d& emission) const {
+    static_assert(detail::kTexSize == 128);
+    const __m256d big = _mm256_set1_pd(16777216.0);
     const __m128i m127 = _mm_set1_epi32(detail::kTexSize - 1);
-    const double* mb = reinterpret_cast<const double*>(mats.data());
-    const float* tfb = reinterpret_cast<const float*>(texels_fast.data());
-    static_assert(sizeof(TexelsFast) == 16 && detail::kTexSize == 128);
-    if (Uniform(mat)) {  // one material (every lane's, valid): its fields broadcast, the texels loaded per lane
-      const int m = _mm_cvtsi128_si32(mat);
-      const TexelsFast& tf = texels_fast[m];
-      const __m256d inv1 = _mm256_set1_pd(tf.inv_texel_m);
-      const __m128i iu = _mm_and_si128(_mm256_cvttpd_epi32(_mm256_add_pd(_mm256_mul_pd(u, inv1), big)), m127);
-      const __m128i iv = _mm_and_si128(_mm256_cvttpd_epi32(_mm256_add_pd(_mm256_mul_pd(v, inv1), big)), m127);
-      alignas(16) int ti[4];
-      _mm_store_si128(reinterpret_cast<__m128i*>(ti), _mm_add_epi32(_mm_slli_epi32(iv, 7), iu));
-      const __m128i texel = _mm_setr_epi32(tf.texels[ti[0]], tf.texels[ti[1]], tf.texels[ti[2]], tf.texels[ti[3]]);
-      texv = _mm256_cvtps_pd(_mm_mul_ps(_mm_cvtepi32_ps(texel), _mm_set1_ps(tf.gain)));
-      albedo = _mm256_set1_pd(mats[m].albedo);
-      emission = _mm256_set1_pd(mats[m].emission);
-      return;
-    }
-    const __m128i ok32 = Mask32(ok);
-    const __m128i m4 = _mm_slli_epi32(mat, 2);
-    const __m256d inv = _mm256_cvtps_pd(_mm_mask_i32gather_ps(_mm_setzero_ps(), tfb + 2, m4, _mm_castsi128_ps(ok32), 4));
-    const __m128 gain = _mm_mask_i32gather_ps(_mm_setzero_ps(), tfb + 3, m4, _mm_castsi128_ps(ok32), 4);
-    const __m256i tp = _mm256_mask_i32gather_epi64(_mm256_setzero_si256(), reinterpret_cast<const long long*>(texels_fast.data()),
-                                                   _mm_slli_epi32(mat, 1), _mm256_castpd_si256(ok), 8);
+    alignas(16) int m[4], ti[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(m), mat);
+    const bool one = Uniform(mat);
+    const TexelsFast* t[4] = {&texels_fast[m[0]], &texels_fast[m[1]], &texels_fast[m[2]], &texels_fast[m[3]]};
+    const __m256d inv = one ? _mm256_set1_pd(t[0]->inv_texel_m)
+                            : _mm256_cvtps_pd(_mm_setr_ps(t[0]->inv_texel_m, t[1]->inv_texel_m, t[2]->inv_texel_m, t[3]->inv_texel_m));
     const __m128i iu = _mm_and_si128(_mm256_cvttpd_epi32(_mm256_add_pd(_mm256_mul_pd(u, inv), big)), m127);
     const __m128i iv = _mm_and_si128(_mm256_cvttpd_epi32(_mm256_add_pd(_mm256_mul_pd(v, inv), big)), m127);
-    const __m256i addr = _mm256_add_epi64(tp, _mm256_cvtepi32_epi64(_mm_add_epi32(_mm_slli_epi32(iv, 7), iu)));
-    const __m128i texel = _mm_and_si128(_mm256_mask_i64gather_epi32(_mm_setzero_si128(), nullptr, addr, ok32, 1), _mm_set1_epi32(0xFF));
-    texv = _mm256_cvtps_pd(_mm_mul_ps(_mm_cvtepi32_ps(texel), gain));
-    const __m128i m3 = _mm_mullo_epi32(mat, _mm_set1_epi32(3));
-    albedo = _mm256_mask_i32gather_pd(zero, mb + offsetof(MatFast, albedo) / 8, m3, ok, 8);
-    emission = _mm256_mask_i32gather_pd(zero, mb + offsetof(MatFast, emission) / 8, m3, ok, 8);
+    _mm_store_si128(reinterpret_cast<__m128i*>(ti), _mm_add_epi32(_mm_slli_epi32(iv, 7), iu));
+    const __m128i texel = _mm_setr_epi32(t[0]->texels[ti[0]], t[1]->texels[ti[1]], t[2]->texels[ti[2]], t[3]->texels[ti[3]]);
+    if (one) {
+      texv = _mm256_cvtps_pd(_mm_mul_ps(_mm_cvtepi32_ps(texel), _mm_set1_ps(t[0]->gain)));
+      albedo = _mm256_set1_pd(mats[m[0]].albedo);
+      emission = _mm256_set1_pd(mats[m[0]].emission);
+    } else {
+      texv = _mm256_cvtps_pd(_mm_mul_ps(_mm_cvtepi32_ps(texel), _mm_setr_ps(t[0]->gain, t[1]->gain, t[2]->gain, t[3]->gain)));
+      albedo = _mm256_setr_pd(mats[m[0]].albedo, mats[m[1]].albedo, mats[m[2]].albedo, mats[m[3]].albedo);
+      emission = _mm256_setr_pd(mats[m[0]].emission, mats[m[1]].emission, mats[m[2]].emission, mats[m[3]].emission);
+    }
   }
 
   // ShadeOnPlaneSimd, four samples per AVX2 step.
@@ -2259,7 +2249,7 @@ struct Renderer::Impl {
         ok = Mask64(ok32);
         if (Bits32(ok32)) {
           __m256d texv, albedo, emission;
-          TexMaterialAvx2(mat, x, y, ok, texv, albedo, emission);
+          TexMaterialAvx2(mat, x, y, texv, albedo, emission);  // (every lane's cell material)
           const __m256d irr = _mm256_cvtps_pd(irr_f);
           const __m256d e = surf == Surf::kFloor ? irr : _mm256_add_pd(_mm256_set1_pd(world.ambient), _mm256_mul_pd(_mm256_set1_pd(kCeilingBounce), irr));
           res = _mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(albedo, texv), e), emission);
@@ -2283,7 +2273,7 @@ struct Renderer::Impl {
         }
         const __m256d e = WallIrradiance4(*wl, along, z, ok);
         __m256d texv, albedo, emission;
-        TexMaterialAvx2(mat, tu, tv, ok, texv, albedo, emission);
+        TexMaterialAvx2(mat, tu, tv, texv, albedo, emission);
         res = _mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(albedo, texv), e), _mm256_mul_pd(emission, texv));
       }
       _mm256_storeu_pd(val + i0, res);
