@@ -33,13 +33,22 @@ struct ExploreCliOptions {
   std::uint64_t seed = 1;
   std::string out = "explore-out";
   int eval_start = -1;  // >= 0: start i of `squint eval explore --seed SEED` (its pose and noise seed)
+  bool heading_filter = false;
 };
+
+// --heading-filter: the Perceiver's heading filter beside the per-frame fusion, the explorer's
+// axis following it (ExploreRunOptions::heading_filter, ExplorerOptions::filtered_axis_gain).
+void UseHeadingFilter(eval::ExploreRunOptions& ro) {
+  ro.heading_filter = true;
+  ro.explorer.filtered_axis_gain = 0.2;
+}
 
 void RunExploreCommand(const ExploreCliOptions& opt) {
   const sim::World world = sim::LoadWorld(opt.world);
   eval::ExploreRunOptions run_opt;
   run_opt.minutes = opt.minutes;
   run_opt.seed = opt.seed;
+  if (opt.heading_filter) UseHeadingFilter(run_opt);
   if (opt.eval_start >= 0) {
     // The same start pose and noise seed as run `eval_start` of `squint eval explore --seed SEED`.
     run_opt.start = eval::SeededStarts(world, opt.eval_start + 1, opt.seed).back();
@@ -67,6 +76,7 @@ struct EvalExploreOptions {
   double minutes = 5.0;
   std::uint64_t seed = 1;
   std::string out = "explore-eval";
+  bool heading_filter = false;
 };
 
 std::string Fixed(double v, int d) {
@@ -96,6 +106,7 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
       ro.seed = opt.seed + static_cast<std::uint64_t>(i);
       ro.start = starts[i];
       ro.keep_trace = false;
+      if (opt.heading_filter) UseHeadingFilter(ro);
       if (std::string e = ro.Validate(); !e.empty()) throw Error("eval explore: " + e);
       const eval::ExploreRunResult run = eval::RunExplore(world, ro);
       const eval::ExploreSummary& s = run.summary;
@@ -198,6 +209,8 @@ void Register(CLI::App& root) {
   cmd->add_option("--eval-start", opt->eval_start,
                   "Run start I of `squint eval explore --seed SEED` (its start pose and noise seed) with full outputs")
       ->check(CLI::Range(0, 999));
+  cmd->add_flag("--heading-filter", opt->heading_filter,
+                "The explorer's corridor axis follows the Perceiver's heading filter over time (off by default; docs/explore.md, session 10)");
   cmd->callback([opt] { RunExploreCommand(*opt); });
 
   auto eopt = std::make_shared<EvalExploreOptions>();
@@ -208,6 +221,7 @@ void Register(CLI::App& root) {
   ex->add_option("--minutes", eopt->minutes, "Simulated minutes per start")->capture_default_str()->check(CLI::PositiveNumber);
   ex->add_option("--seed", eopt->seed, "Seed of the start poses and noise")->capture_default_str();
   ex->add_option("--out", eopt->out, "Output folder: table.md, runs.csv, map-WORLD.png")->capture_default_str();
+  ex->add_flag("--heading-filter", eopt->heading_filter, "As `squint explore --heading-filter`");
   ex->callback([eopt] { RunEvalExplore(*eopt); });
 
   auto sopt = std::make_shared<SonarViewOptions>();

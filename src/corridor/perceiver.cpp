@@ -115,6 +115,8 @@ void Perceiver::ResetDistanceHistory() {
 
 void Perceiver::ResetGateReference() { gate_.Reset(); }
 
+void Perceiver::ResetHeadingFilter() { heading_filter_.Reset(); }
+
 double Perceiver::ColumnToHeadingDeg(double column_px) const {
   if (has_intrinsics_) return RadToDeg(glance_camera_.HeadingFromColumn(column_px));
   return options_.heading.fallback_deg_per_column * (column_px - glance_camera_.cx);

@@ -662,15 +662,23 @@ PlotOptions Opt(const CorridorEvalOptions& o, std::string title, std::string xl,
   return p;
 }
 
+// A series with a legend label and a style, the rest defaulted.
+PlotSeries NamedSeries(std::string label, PlotStyle style) {
+  PlotSeries s;
+  s.label = std::move(label);
+  s.style = style;
+  return s;
+}
+
 // Fig. 8 / Fig. 10 style: mean estimate per bin with ±2σ, and the truth diagonal.
 std::vector<PlotSeries> MeanBandSeries(const std::vector<BinStats>& bins) {
-  PlotSeries mean{"mean estimate", {}, {}, PlotStyle::kLineAndMarkers};
-  PlotSeries hi{"mean +/- 2 sigma", {}, {}, PlotStyle::kLine};
-  PlotSeries lo{"", {}, {}, PlotStyle::kLine};
+  PlotSeries mean = NamedSeries("mean estimate", PlotStyle::kLineAndMarkers);
+  PlotSeries hi = NamedSeries("mean +/- 2 sigma", PlotStyle::kLine);
+  PlotSeries lo = NamedSeries("", PlotStyle::kLine);
   hi.dashed = lo.dashed = true;
   hi.rgb = lo.rgb = std::array<std::uint8_t, 3>{120, 120, 200};
   hi.line_width_px = lo.line_width_px = 1;
-  PlotSeries truth{"truth", {}, {}, PlotStyle::kLine};
+  PlotSeries truth = NamedSeries("truth", PlotStyle::kLine);
   truth.rgb = std::array<std::uint8_t, 3>{0, 0, 0};
   truth.line_width_px = 1;
   for (const BinStats& b : bins) {
@@ -750,7 +758,7 @@ std::string WriteCorridorReport(const std::vector<CorridorRun>& runs, const fs::
       WritePlotPng(staged.Path() / ("heading_" + FileSafe(e.name) + ".png"), MeanBandSeries(bins),
                    Opt(options, "heading: " + e.name + fmt::format(" (RMSE {:.2f} deg)", sum.rmse),
                        "true heading (deg)", "estimated heading (deg)"));
-      PlotSeries pct{"right sign %", {}, {}, PlotStyle::kLineAndMarkers};
+      PlotSeries pct = NamedSeries("right sign %", PlotStyle::kLineAndMarkers);
       for (const BinStats& b : bins)
         if (b.signed_frames > 0) {
           pct.x.push_back(b.centre);
@@ -826,7 +834,7 @@ std::string WriteCorridorReport(const std::vector<CorridorRun>& runs, const fs::
                              {"processed", n_proc},
                              {"fraction_processed", flags.empty() ? 0.0 : double(n_proc) / double(flags.size())},
                              {"processed_per_block", blocks}});
-      PlotSeries b{r.name, {}, {}, PlotStyle::kLineAndMarkers};
+      PlotSeries b = NamedSeries(r.name, PlotStyle::kLineAndMarkers);
       for (std::size_t k = 0; k < blocks.size(); ++k) {
         b.x.push_back(static_cast<double>(k * options.gate_block));
         b.y.push_back(static_cast<double>(blocks[k]));
@@ -852,7 +860,7 @@ std::string WriteCorridorReport(const std::vector<CorridorRun>& runs, const fs::
     }
     report["rapid_perception"] = rp;
     if (options.plots && frames > 0) {
-      PlotSeries hs{"frames", {}, {}, PlotStyle::kLineAndMarkers};
+      PlotSeries hs = NamedSeries("frames", PlotStyle::kLineAndMarkers);
       const double w = (h.hi - h.lo) / static_cast<double>(h.counts.size());
       for (std::size_t k = 0; k < h.counts.size(); ++k) {
         hs.x.push_back(h.lo + (static_cast<double>(k) + 0.5) * w);

@@ -90,7 +90,9 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   render.noise_sigma = options.sensor_noise_sigma;
   render.seed = options.seed;
   sim::Renderer renderer(world, glance_camera, render);
-  corridor::Perceiver perceiver(options.perception, glance_camera);
+  corridor::CorridorOptions perception = options.perception;
+  if (options.heading_filter) perception.heading.filter.enabled = true;
+  corridor::Perceiver perceiver(perception, glance_camera);
 
   sim::RobotOptions robot_options;
   robot_options.step_s = dt;
@@ -181,13 +183,15 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
     out.true_path.push_back(world_T_robot);
     renderer.Render(world_T_robot, view, nullptr, 0, nullptr, 0, static_cast<std::uint64_t>(f));
     const Pose2 odom = robot.OdomPose();
-    const double travelled = Between(prev_odom, odom).x;
+    const Pose2 moved = Between(prev_odom, odom);
+    const double travelled = moved.x;
     prev_odom = odom;
 
     // Perception (timed: the CPU budget is the paper's rapid-perception point).
+    if (explorer.TakeHeadingFilterReset()) perceiver.ResetHeadingFilter();
     if (explorer.TakeGateReset() || explorer.WantsFullProcessing()) perceiver.ResetGateReference();
     const double cpu0 = ThreadCpuSeconds();
-    const corridor::PerceptionResult r = perceiver.ProcessGlance(glance, travelled, f == 0 ? 0.0 : dt);
+    const corridor::PerceptionResult r = perceiver.ProcessGlance(glance, travelled, f == 0 ? 0.0 : dt, RadToDeg(moved.yaw));
     perception_cpu += ThreadCpuSeconds() - cpu0;
     if (r.processed) ++processed_frames;
 
@@ -195,7 +199,8 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
     p.stamp_s = f * dt;
     p.odom_T_robot = odom;
     p.processed = r.processed;
-    p.heading_deg = r.heading_deg;
+    p.heading_deg = perception.heading.filter.enabled ? r.heading_instant_deg : r.heading_deg;
+    if (perception.heading.filter.enabled) p.heading_filtered_deg = r.heading_deg;
     p.dist_end_m = r.dist_end_m;
     p.centre_heading_deg = r.processed ? CentreCue(r) : std::nullopt;
     p.glance_entropy_nats = r.entropy;

@@ -51,6 +51,7 @@ std::string ExplorerOptions::Validate() const {
   if (!(end_entropy_ratio >= 0.0 && end_entropy_ratio < 1.0)) return "end_entropy_ratio must be in [0, 1)";
   if (!(reference_percentile >= 0.0 && reference_percentile <= 1.0)) return "reference_percentile must be in [0, 1]";
   if (axis_reacquire_frames < 1) return "axis_reacquire_frames must be >= 1";
+  if (!(filtered_axis_gain >= 0.0 && filtered_axis_gain <= 1.0)) return "filtered_axis_gain must be in [0, 1]";
   if (reprobe_dead_end_visits < 0) return "reprobe_dead_end_visits must be >= 0";
   if (align_frames < 1) return "align_frames must be >= 1";
   if (!Positive(align_done_deg)) return "align_done_deg must be positive";
@@ -138,6 +139,12 @@ double Explorer::HeadingEstimateDeg() const { return RadToDeg(WrapPi(last_odom_.
 bool Explorer::TakeGateReset() {
   const bool r = gate_reset_;
   gate_reset_ = false;
+  return r;
+}
+
+bool Explorer::TakeHeadingFilterReset() {
+  const bool r = heading_filter_reset_;
+  heading_filter_reset_ = false;
   return r;
 }
 
@@ -523,6 +530,7 @@ void Explorer::StartFollow(const Percept&) {
   ref_entropy_.clear();
   ref_next_ = 0;
   gate_reset_ = true;
+  heading_filter_reset_ = true;
   stall_since_s_ = -1.0;
   sides_[0] = sides_[1] = SideTrack{};
 }
@@ -548,16 +556,24 @@ void Explorer::UpdateAxis(const Percept& p) {
       }
       sides_[0] = sides_[1] = SideTrack{};  // walls seen in the old frame do not arm an opening
       outlier_axes_.clear();
+      heading_filter_reset_ = true;
     }
     return;
   }
   outlier_axes_.clear();
-  axis_yaw_odom_ = WrapPi(axis_yaw_odom_ + opt_.axis_gain * innovation);
+  // With the heading filter, an inlier moves the axis toward the filtered heading's axis.
+  double gain = opt_.axis_gain;
+  double step = innovation;
+  if (opt_.filtered_axis_gain > 0.0 && p.heading_filtered_deg) {
+    gain = opt_.filtered_axis_gain;
+    step = WrapPi(p.odom_T_robot.yaw - DegToRad(*p.heading_filtered_deg) - axis_yaw_odom_);
+  }
+  axis_yaw_odom_ = WrapPi(axis_yaw_odom_ + gain * step);
   // The map frame follows the axis by the same innovation; it snaps to the axis only when they
   // agree within a few degrees (not after a re-acquisition onto a diagonal view).
   const double residual = WrapPi(axis_yaw_odom_ - YawOfDirection(dir_) - map_yaw_offset_);
   map_yaw_offset_ = std::abs(residual) < DegToRad(5.0) ? WrapPi(axis_yaw_odom_ - YawOfDirection(dir_))
-                                                       : WrapPi(map_yaw_offset_ + opt_.axis_gain * innovation);
+                                                       : WrapPi(map_yaw_offset_ + gain * step);
 }
 
 double Explorer::ReferenceEntropy() const {

@@ -102,6 +102,9 @@ class Perceiver {
   void Reset();
   // The next frame becomes the gate's reference (a new corridor), keeping the previous frame.
   void ResetGateReference();
+  // Restarts the heading filter (HeadingOptions::filter) from the next processed frame, keeping
+  // everything else: the caller's reference axis changed (a new corridor).
+  void ResetHeadingFilter();
 
   const Options& GetOptions() const { return options_; }
   const CameraModel& GlanceCamera() const { return glance_camera_; }

@@ -85,6 +85,13 @@ struct ExplorerOptions {
   // Axis re-acquisition: after this many consecutive outlier innovations, the axis is reset to
   // their median (the corridor frame was lost).
   int axis_reacquire_frames = 12;
+  // When > 0 and the percept carries the heading filter's estimate (Percept::heading_filtered_deg),
+  // an inlier frame (per-frame heading within axis_outlier_deg) moves the axis by this gain toward
+  // the filtered heading's axis instead of by axis_gain toward the per-frame one. Outliers and
+  // re-acquisition still use the per-frame heading, and TakeHeadingFilterReset() asks the caller
+  // to restart the filter wherever the axis it is relative to changes. 0: off (the default;
+  // `squint explore --heading-filter` sets 0.2; docs/explore.md, session 10).
+  double filtered_axis_gain = 0.0;
   // Alignment in place after the scan: take the median fused heading of align_frames fully
   // processed frames, rotate by it, repeat until below align_done_deg (at most align_rounds).
   int align_frames = 7;
@@ -235,6 +242,9 @@ class Explorer {
   // True once after every new corridor starts: the caller resets the rapid-perception gate's
   // reference entropy (paper §5.3: normalised by the first frame of the corridor).
   bool TakeGateReset();
+  // True once after every new corridor starts and after every axis re-acquisition: the caller
+  // restarts the Perceiver's heading filter (its state is relative to the previous axis).
+  bool TakeHeadingFilterReset();
   // True while the explorer turns or stands in place and needs every frame fully processed (scan, alignment):
   // the caller then resets the gate's reference before the frame (a still view never passes).
   bool WantsFullProcessing() const { return state_ == ExploreState::kAlign || state_ == ExploreState::kScan; }
@@ -329,6 +339,7 @@ class Explorer {
   int ref_next_ = 0;
   double last_ref_entropy_ = 0.0;
   bool gate_reset_ = true;
+  bool heading_filter_reset_ = true;
   // Stall guard.
   double stall_since_s_ = -1.0;
   Pose2 stall_odom_;

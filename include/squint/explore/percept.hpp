@@ -30,6 +30,10 @@ struct Percept {
   // the estimates below are empty and the explorer propagates the last ones by odometry.
   bool processed = false;
   std::optional<double> heading_deg;         // fused heading relative to the corridor axis
+  // The Perceiver's heading filter over time (odometry turn as the process, HeadingFilterOptions),
+  // when the caller runs it; used by ExplorerOptions::filtered_axis_gain. heading_deg is then the
+  // per-frame fusion.
+  std::optional<double> heading_filtered_deg;
   std::optional<double> centre_heading_deg;  // translation-sensitive cues (bright pixels, symmetry)
   std::optional<double> dist_end_m;          // fused distance to the corridor's end
   // Whole-glance grey-level entropy (nats); the gate computes it on every frame, processed or not.
