@@ -36,12 +36,9 @@ struct ExploreCliOptions {
   bool heading_filter = false;
 };
 
-// --heading-filter: the Perceiver's heading filter beside the per-frame fusion, the explorer's
-// axis following it (ExploreRunOptions::heading_filter, ExplorerOptions::filtered_axis_gain).
-void UseHeadingFilter(eval::ExploreRunOptions& ro) {
-  ro.heading_filter = true;
-  ro.explorer.filtered_axis_gain = 0.2;
-}
+// --heading-filter: the explorer's axis follows the Perceiver's heading filter, which the runner
+// then runs beside the per-frame fusion (ExplorerOptions::filtered_axis_gain).
+void UseHeadingFilter(eval::ExploreRunOptions& ro) { ro.explorer.filtered_axis_gain = 0.2; }
 
 void RunExploreCommand(const ExploreCliOptions& opt) {
   const sim::World world = sim::LoadWorld(opt.world);

@@ -91,7 +91,7 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   render.seed = options.seed;
   sim::Renderer renderer(world, glance_camera, render);
   corridor::CorridorOptions perception = options.perception;
-  if (options.heading_filter) perception.heading.filter.enabled = true;
+  if (options.explorer.filtered_axis_gain > 0.0) perception.heading.filter.enabled = true;
   corridor::Perceiver perceiver(perception, glance_camera);
 
   sim::RobotOptions robot_options;
@@ -199,7 +199,7 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
     p.stamp_s = f * dt;
     p.odom_T_robot = odom;
     p.processed = r.processed;
-    p.heading_deg = perception.heading.filter.enabled ? r.heading_instant_deg : r.heading_deg;
+    p.heading_deg = r.heading_instant_deg;  // the per-frame fusion (r.heading_deg without the filter)
     if (perception.heading.filter.enabled) p.heading_filtered_deg = r.heading_deg;
     p.dist_end_m = r.dist_end_m;
     p.centre_heading_deg = r.processed ? CentreCue(r) : std::nullopt;

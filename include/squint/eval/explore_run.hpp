@@ -75,13 +75,12 @@ struct ExploreRunOptions {
   obstacles::AvoidOptions avoid;          // gap.robot_radius_m is replaced by the world's
   explore::ObstacleAdviceOptions advice;  // robot_radius_m is replaced by the world's
   explore::ExplorerOptions explorer;  // robot_radius_m is replaced by the world's robot radius
+  // With explorer.filtered_axis_gain > 0 the Perceiver's heading filter (perception.heading.filter,
+  // with the odometry's turn per frame) runs beside the per-frame fusion and the explorer's axis
+  // follows it (the filter restarts at every new corridor and re-acquired axis). Off by default
+  // (docs/explore.md, session 10: corridor-2's seeded starts gain, but `default`'s middle corridor
+  // is missed on more seeds).
   corridor::CorridorOptions perception;
-  // The Perceiver's heading filter (perception.heading.filter, with the odometry's turn per frame)
-  // runs beside the per-frame fusion, and the explorer's axis follows it where
-  // explorer.filtered_axis_gain > 0 (the filter restarts at every new corridor and re-acquired
-  // axis). Off by default (docs/explore.md, session 10: corridor-2's seeded starts gain, but
-  // `default`'s middle corridor is missed on more seeds).
-  bool heading_filter = false;
   sim::OdometryOptions odometry;   // its seed is replaced by `seed`
   bool keep_trace = true;          // per-frame rows for trace.csv
 
