@@ -123,7 +123,9 @@ TEST(ExploreRun, ObstaclePipelineSeesTheBoxAcrossThePathAndTheRobotPassesIt) {
     for (const Pose2& p : run.true_path) max_x = std::max(max_x, p.x);
     // Without the sonar the glance's end detection reads the box as the corridor's end and turns
     // back in front of it (no collision); with it the robot passes.
-    if (sonar) EXPECT_GT(max_x, 7.0) << "did not get past the box: " << s.outcome;
+    if (sonar) {
+      EXPECT_GT(max_x, 7.0) << "did not get past the box: " << s.outcome;
+    }
     EXPECT_GT(s.ipt_classified, 10) << s.outcome;
     EXPECT_GT(s.advice_in_path, 0) << s.outcome;
     EXPECT_GT(s.override_frames, 0) << s.outcome;
