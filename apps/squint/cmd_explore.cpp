@@ -34,11 +34,16 @@ struct ExploreCliOptions {
   std::string out = "explore-out";
   int eval_start = -1;  // >= 0: start i of `squint eval explore --seed SEED` (its pose and noise seed)
   bool heading_filter = false;
+  bool floor_edge_openings = false;
 };
 
 // --heading-filter: the explorer's axis follows the Perceiver's heading filter, which the runner
 // then runs beside the per-frame fusion (ExplorerOptions::filtered_axis_gain).
 void UseHeadingFilter(eval::ExploreRunOptions& ro) { ro.explorer.filtered_axis_gain = 0.2; }
+
+// --floor-edge-openings: side openings are found past a floor-material edge read beyond the wall
+// line (ExplorerOptions::branch_line_tolerance_m).
+void UseFloorEdgeOpenings(eval::ExploreRunOptions& ro) { ro.explorer.branch_line_tolerance_m = 0.12; }
 
 void RunExploreCommand(const ExploreCliOptions& opt) {
   const sim::World world = sim::LoadWorld(opt.world);
@@ -46,6 +51,7 @@ void RunExploreCommand(const ExploreCliOptions& opt) {
   run_opt.minutes = opt.minutes;
   run_opt.seed = opt.seed;
   if (opt.heading_filter) UseHeadingFilter(run_opt);
+  if (opt.floor_edge_openings) UseFloorEdgeOpenings(run_opt);
   if (opt.eval_start >= 0) {
     // The same start pose and noise seed as run `eval_start` of `squint eval explore --seed SEED`.
     run_opt.start = eval::SeededStarts(world, opt.eval_start + 1, opt.seed).back();
@@ -74,6 +80,7 @@ struct EvalExploreOptions {
   std::uint64_t seed = 1;
   std::string out = "explore-eval";
   bool heading_filter = false;
+  bool floor_edge_openings = false;
 };
 
 std::string Fixed(double v, int d) {
@@ -104,6 +111,7 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
       ro.start = starts[i];
       ro.keep_trace = false;
       if (opt.heading_filter) UseHeadingFilter(ro);
+      if (opt.floor_edge_openings) UseFloorEdgeOpenings(ro);
       if (std::string e = ro.Validate(); !e.empty()) throw Error("eval explore: " + e);
       const eval::ExploreRunResult run = eval::RunExplore(world, ro);
       const eval::ExploreSummary& s = run.summary;
@@ -208,6 +216,8 @@ void Register(CLI::App& root) {
       ->check(CLI::Range(0, 999));
   cmd->add_flag("--heading-filter", opt->heading_filter,
                 "The explorer's corridor axis follows the Perceiver's heading filter over time (off by default; docs/explore.md, session 10)");
+  cmd->add_flag("--floor-edge-openings", opt->floor_edge_openings,
+                "Find side openings past a floor edge read beyond the wall line (off by default; docs/explore.md, session 11)");
   cmd->callback([opt] { RunExploreCommand(*opt); });
 
   auto eopt = std::make_shared<EvalExploreOptions>();
@@ -219,6 +229,7 @@ void Register(CLI::App& root) {
   ex->add_option("--seed", eopt->seed, "Seed of the start poses and noise")->capture_default_str();
   ex->add_option("--out", eopt->out, "Output folder: table.md, runs.csv, map-WORLD.png")->capture_default_str();
   ex->add_flag("--heading-filter", eopt->heading_filter, "As `squint explore --heading-filter`");
+  ex->add_flag("--floor-edge-openings", eopt->floor_edge_openings, "As `squint explore --floor-edge-openings`");
   ex->callback([eopt] { RunEvalExplore(*eopt); });
 
   auto sopt = std::make_shared<SonarViewOptions>();

@@ -34,6 +34,15 @@ void CorridorKalman::Reset() {
   heading_rejections_ = dist_rejections_ = 0;
 }
 
+void CorridorKalman::SetHeading(double heading_deg, double std_deg) {
+  if (!std::isfinite(heading_deg) || !(std_deg > 0.0) || !std::isfinite(std_deg)) return;
+  x_(0) = heading_deg;
+  p_(0, 0) = std_deg * std_deg;
+  p_(0, 1) = p_(1, 0) = 0.0;
+  has_heading_ = true;
+  heading_rejections_ = 0;
+}
+
 void CorridorKalman::Predict(const std::optional<Pose2>& prev_T_curr, double dt_s) {
   Eigen::Matrix2d f = Eigen::Matrix2d::Identity();
   Eigen::Matrix2d q = Eigen::Matrix2d::Zero();

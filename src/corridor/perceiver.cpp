@@ -117,6 +117,11 @@ void Perceiver::ResetGateReference() { gate_.Reset(); }
 
 void Perceiver::ResetHeadingFilter() { heading_filter_.Reset(); }
 
+void Perceiver::ResetHeadingFilter(double prior_deg, double std_deg) {
+  heading_filter_.Reset();
+  heading_filter_.SetHeading(prior_deg, std_deg);
+}
+
 double Perceiver::ColumnToHeadingDeg(double column_px) const {
   if (has_intrinsics_) return RadToDeg(glance_camera_.HeadingFromColumn(column_px));
   return options_.heading.fallback_deg_per_column * (column_px - glance_camera_.cx);

@@ -188,7 +188,9 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
     prev_odom = odom;
 
     // Perception (timed: the CPU budget is the paper's rapid-perception point).
-    if (explorer.TakeHeadingFilterReset()) perceiver.ResetHeadingFilter();
+    double heading_prior_deg = 0.0;
+    if (explorer.TakeHeadingFilterReset(&heading_prior_deg))
+      perceiver.ResetHeadingFilter(heading_prior_deg, explorer_options.heading_filter_prior_std_deg);
     if (explorer.TakeGateReset() || explorer.WantsFullProcessing()) perceiver.ResetGateReference();
     const double cpu0 = ThreadCpuSeconds();
     const corridor::PerceptionResult r = perceiver.ProcessGlance(glance, travelled, f == 0 ? 0.0 : dt, RadToDeg(moved.yaw));

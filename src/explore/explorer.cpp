@@ -52,6 +52,7 @@ std::string ExplorerOptions::Validate() const {
   if (!(reference_percentile >= 0.0 && reference_percentile <= 1.0)) return "reference_percentile must be in [0, 1]";
   if (axis_reacquire_frames < 1) return "axis_reacquire_frames must be >= 1";
   if (!(filtered_axis_gain >= 0.0 && filtered_axis_gain <= 1.0)) return "filtered_axis_gain must be in [0, 1]";
+  if (!NonNegative(heading_filter_prior_std_deg)) return "heading_filter_prior_std_deg must be >= 0";
   if (reprobe_dead_end_visits < 0) return "reprobe_dead_end_visits must be >= 0";
   if (align_frames < 1) return "align_frames must be >= 1";
   if (!Positive(align_done_deg)) return "align_done_deg must be positive";
@@ -107,6 +108,10 @@ std::string ExplorerOptions::Validate() const {
   if (!Positive(branch_depth_m)) return "branch_depth_m must be positive";
   if (!Positive(branch_max_heading_deg)) return "branch_max_heading_deg must be positive";
   if (!Positive(branch_known_radius_m)) return "branch_known_radius_m must be positive";
+  if (!NonNegative(branch_line_tolerance_m)) return "branch_line_tolerance_m must be >= 0";
+  if (!(branch_line_band_m >= branch_line_tolerance_m && std::isfinite(branch_line_band_m)))
+    return "branch_line_band_m must be >= branch_line_tolerance_m";
+  if (branch_line_samples < 1) return "branch_line_samples must be at least 1";
   if (std::string e = memory.Validate(); !e.empty()) return "memory." + e;
   if (std::string e = map.Validate(); !e.empty()) return "map." + e;
   return {};
@@ -142,9 +147,14 @@ bool Explorer::TakeGateReset() {
   return r;
 }
 
-bool Explorer::TakeHeadingFilterReset() {
+bool Explorer::TakeHeadingFilterReset(double* prior_deg) {
   const bool r = heading_filter_reset_;
   heading_filter_reset_ = false;
+  if (prior_deg != nullptr) {
+    *prior_deg = std::numeric_limits<double>::quiet_NaN();
+    if (r && heading_filter_prior_ && opt_.heading_filter_prior_std_deg > 0.0 && started_)
+      *prior_deg = RadToDeg(WrapPi(last_odom_.yaw - axis_yaw_odom_));
+  }
   return r;
 }
 
@@ -209,6 +219,7 @@ void Explorer::UpdateSonar(const Percept& p) {
   // what the memory holds there (a floor-material edge taken for a wall from farther back, e.g.
   // at the mouth of default's carpeted middle corridor) goes.
   if (scan == &sonar_copy_ && opt_.blind_view_clears) memory_.ClearUnknownRays(sonar_copy_, p.odom_T_robot, p.sonar_near_blind_m);
+  ClearFloorEdgeBand(p);
   memory_.Gather(p.odom_T_robot, p.stamp_s);
   sonar_seen_ = true;
   last_scan_yaw_ = p.odom_T_robot.yaw;
@@ -228,12 +239,25 @@ void Explorer::RotateAxis(double by_rad) {
   map_yaw_offset_ = WrapPi(map_yaw_offset_ + by_rad);
 }
 
+void Explorer::ClearFloorEdgeBand(const Percept& p) {
+  FloorEdgeBand& b = floor_edge_band_;
+  if (!b.active) return;
+  if (state_ != ExploreState::kFollow || travel_in_corridor_m_ > b.s1 + opt_.robot_radius_m) {
+    b.active = false;
+    return;
+  }
+  memory_.ClearRect(b.frame, b.s0, b.s1, -b.half_width, b.half_width);
+  memory_.Gather(p.odom_T_robot, p.stamp_s);
+}
+
 bool Explorer::UseBlocked(double yaw) const {
   // After driving down the corridor for more than the blind range, what lies in the blind zone
   // ahead was seen from farther back (and is remembered): the latest scan's blocked-near columns
   // then block only the narrow sector (on textured floors they are mostly floor without a visible
   // step).
-  return !(state_ == ExploreState::kFollow && travel_in_corridor_m_ >= opt_.trust_memory_after_m &&
+  // Likewise while crossing the floor edge of an opening just turned into (floor_edge_band_).
+  return !(state_ == ExploreState::kFollow &&
+           (travel_in_corridor_m_ >= opt_.trust_memory_after_m || floor_edge_band_.active) &&
            std::abs(WrapPi(yaw - axis_yaw_odom_)) < DegToRad(45.0));
 }
 
@@ -245,6 +269,26 @@ double Explorer::Free(const Percept& p, double yaw, double max_m) const {
       !(opt_.trust_memory_max_wall_lines > 0.0 && last_wall_lines_ >= opt_.trust_memory_max_wall_lines);
   return memory_.FreeTravel(p.odom_T_robot, yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m, use_blocked,
                             seen_free_exempts);
+}
+
+double Explorer::FreeAcross(const Percept& p, double side_yaw, double line_m) const {
+  const double max_m = opt_.branch_depth_m + 0.5;
+  if (line_m < 0.0) return Free(p, side_yaw, max_m);
+  // As Free (the remembered points only: the latest scan looks ahead, not across), leaving out the
+  // band beyond the armed side's wall line where a floor edge seen through the opening lies.
+  const Eigen::Vector2d o = p.odom_T_robot.Translation();
+  const Eigen::Vector2d d(std::cos(side_yaw), std::sin(side_yaw));
+  const double r = opt_.robot_radius_m + opt_.safety_margin_m;
+  double free = max_m;
+  for (const Eigen::Vector2d& m : memory_.Gathered()) {
+    const Eigen::Vector2d q = m - o;
+    const double s = q.dot(d);
+    const double l = d.x() * q.y() - d.y() * q.x();
+    if (l * l >= r * r || s < 0.0) continue;
+    if (s > line_m + opt_.branch_line_tolerance_m && s <= line_m + opt_.branch_line_band_m) continue;
+    free = std::min(free, std::max(0.0, s - std::sqrt(r * r - l * l)));
+  }
+  return free;
 }
 
 double Explorer::SideLineTravel(double yaw, double left_m, double right_m) const {
@@ -531,6 +575,7 @@ void Explorer::StartFollow(const Percept&) {
   ref_next_ = 0;
   gate_reset_ = true;
   heading_filter_reset_ = true;
+  heading_filter_prior_ = true;
   stall_since_s_ = -1.0;
   sides_[0] = sides_[1] = SideTrack{};
 }
@@ -557,6 +602,7 @@ void Explorer::UpdateAxis(const Percept& p) {
       sides_[0] = sides_[1] = SideTrack{};  // walls seen in the old frame do not arm an opening
       outlier_axes_.clear();
       heading_filter_reset_ = true;
+      heading_filter_prior_ = false;
     }
     return;
   }
@@ -746,10 +792,25 @@ bool Explorer::TrackSides(const Percept& p) {
   memory_.SideDistances(p.odom_T_robot, axis_yaw_odom_, opt_.side_window_m, opt_.side_wall_max_lateral_m, &wall[0],
                         &wall[1]);
   const double t = travel_in_corridor_m_;
-  // The nearest remembered point ahead on each side (beyond the abeam window): an opening's far
-  // edge (the next wall, the branch's far corner, or the end wall).
   const Eigen::Vector2d o = p.odom_T_robot.Translation();
   const Eigen::Vector2d d(std::cos(axis_yaw_odom_), std::sin(axis_yaw_odom_));
+  // Each side's outward normal, the robot's outward offset from the run's start, and where an
+  // armed side's wall line lies from the robot (< 0: no line, every reading is that wall).
+  Eigen::Vector2d normal[2] = {Eigen::Vector2d(-d.y(), d.x()), Eigen::Vector2d(d.y(), -d.x())};
+  double line_at[2] = {-1.0, -1.0};
+  for (int k = 0; k < 2; ++k) {
+    const SideTrack& tr = sides_[k];
+    if (opt_.branch_line_tolerance_m <= 0.0 || !tr.armed ||
+        static_cast<int>(tr.line.size()) < opt_.branch_line_samples)
+      continue;
+    std::vector<double> v = tr.line;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    line_at[k] = v[v.size() / 2] - normal[k].dot(o - tr.ref);
+    // Beyond the line: not this wall.
+    if (wall[k] > line_at[k] + opt_.branch_line_tolerance_m) wall[k] = -1.0;
+  }
+  // The nearest remembered point ahead on each side (beyond the abeam window): an opening's far
+  // edge (the next wall, the branch's far corner, or the end wall).
   double ahead[2] = {-1.0, -1.0};
   for (const Eigen::Vector2d& m : memory_.Gathered()) {
     const Eigen::Vector2d q = m - o;
@@ -757,7 +818,11 @@ bool Explorer::TrackSides(const Percept& p) {
     if (s <= opt_.side_window_m) continue;
     const double l = d.x() * q.y() - d.y() * q.x();
     if (std::abs(l) < opt_.robot_radius_m || std::abs(l) > opt_.side_wall_max_lateral_m + 1.5) continue;
-    double& a = ahead[l > 0.0 ? 0 : 1];
+    const int k = l > 0.0 ? 0 : 1;
+    if (line_at[k] > 0.0 && std::abs(l) > line_at[k] + opt_.branch_line_tolerance_m &&
+        std::abs(l) <= line_at[k] + opt_.branch_line_band_m)
+      continue;  // beyond an armed side's wall line: a floor edge seen through the opening
+    double& a = ahead[k];
     if (a < 0.0 || s < a) a = s;
   }
   for (int k = 0; k < 2; ++k) {
@@ -767,9 +832,14 @@ bool Explorer::TrackSides(const Percept& p) {
         // A new run of wall (after a gap, or the first): an opening must follow a full run.
         tr = SideTrack{};
         tr.wall_first_m = t;
+        tr.ref = o;
       }
       tr.wall_last_m = t;
       if (t - tr.wall_first_m >= opt_.branch_wall_before_m) tr.armed = true;
+      if (opt_.branch_line_tolerance_m > 0.0) {
+        tr.line.push_back(wall[k] + normal[k].dot(o - tr.ref));
+        if (static_cast<int>(tr.line.size()) > opt_.branch_line_samples) tr.line.erase(tr.line.begin());
+      }
       continue;
     }
     if (!tr.armed || tr.consumed) continue;
@@ -787,11 +857,21 @@ bool Explorer::TrackSides(const Percept& p) {
     // At the opening's centre: a branch when free across for branch_depth_m.
     tr.consumed = true;
     const double side_yaw = WrapPi(axis_yaw_odom_ + (k == 0 ? 0.5 : -0.5) * kPi);
-    if (Free(p, side_yaw, opt_.branch_depth_m + 0.5) < opt_.branch_depth_m) continue;
+    if (FreeAcross(p, side_yaw, line_at[k]) < opt_.branch_depth_m) continue;
     // A crossing: the other side's opening is handled by the same stop (the probe looks at both).
     SideTrack& other = sides_[1 - k];
     if (other.armed && wall[1 - k] <= 0.0) other.consumed = true;
-    if (OnOpening(p, k, width)) return true;
+    if (OnOpening(p, k, width)) {
+      if (line_at[k] > 0.0 && gap_side_dir_ >= 0) {
+        floor_edge_band_.valid = true;
+        floor_edge_band_.dir = gap_side_dir_;
+        floor_edge_band_.frame = Pose2{o.x(), o.y(), side_yaw};
+        floor_edge_band_.s0 = line_at[k] + opt_.branch_line_tolerance_m;
+        floor_edge_band_.s1 = line_at[k] + opt_.branch_line_band_m;
+        floor_edge_band_.half_width = 0.5 * width + opt_.side_window_m;
+      }
+      return true;
+    }
   }
   return false;
 }
@@ -851,6 +931,7 @@ void Explorer::StartProbe() {
   last_ref_entropy_ = ReferenceEntropy();
   side_free_m_[0] = side_free_m_[1] = -1.0;
   gap_side_dir_ = -1;
+  floor_edge_band_.valid = floor_edge_band_.active = false;
   state_ = ExploreState::kProbe;
   probe_phase_ = 0;
   look_count_ = 0;
@@ -978,7 +1059,15 @@ Command Explorer::TurnStep(const Percept& p) {
   dir_ = turn_to_dir_;
   map_yaw_offset_ = WrapPi(axis_yaw_odom_ - YawOfDirection(dir_));
   map_.Depart(node_, dir_);
+  const bool into_band = floor_edge_band_.valid && floor_edge_band_.dir == dir_;
+  floor_edge_band_.valid = false;
   StartFollow(p);
+  if (into_band) {
+    // Into an opening found past a floor edge: until the robot has crossed that band, what the
+    // memory holds there (seen again from the mouth, nearer than any second step) is floor.
+    floor_edge_band_.active = true;
+    ClearFloorEdgeBand(p);
+  }
   return {};
 }
 

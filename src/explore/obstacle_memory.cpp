@@ -117,6 +117,22 @@ void ObstacleMemory::ClearUnknownRays(const std::vector<SonarColumn>& scan, cons
       ClearRay(o, odom_T_robot.yaw + c.bearing_rad, 0.0, to_m, std::numeric_limits<double>::infinity(), 0.0);
 }
 
+int ObstacleMemory::ClearRect(const Pose2& frame, double s0, double s1, double l0, double l1) {
+  const Eigen::Vector2d o = frame.Translation();
+  const Eigen::Vector2d d(std::cos(frame.yaw), std::sin(frame.yaw));
+  int n = 0;
+  for (Cell& c : cells_) {
+    if (c.stamp_s < 0.0 || c.confirmed) continue;
+    const Eigen::Vector2d q = c.p - o;
+    const double s = q.dot(d);
+    const double l = d.x() * q.y() - d.y() * q.x();
+    if (s < s0 || s > s1 || l < l0 || l > l1) continue;
+    c.stamp_s = -1.0;
+    ++n;
+  }
+  return n;
+}
+
 bool ObstacleMemory::SeenFree(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double now_s) const {
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
   const double step = 0.5 * options_.cell_m;

@@ -72,6 +72,29 @@ TEST(CorridorKalman, NoEstimateBeforeFirstMeasurement) {
   EXPECT_FALSE(kf.DistanceM().has_value());
 }
 
+TEST(CorridorKalman, SetHeadingStartsFromThePriorAndWeighsTheNextMeasurement) {
+  CorridorKalman kf;
+  kf.SetHeading(5.0, 2.0);
+  ASSERT_TRUE(kf.HeadingDeg().has_value());
+  EXPECT_NEAR(*kf.HeadingDeg(), 5.0, 1e-12);
+  EXPECT_NEAR(kf.HeadingStdDeg(), 2.0, 1e-12);
+  // Equal variances: the measurement moves the state halfway, not onto itself.
+  EXPECT_TRUE(kf.UpdateHeading(9.0, 2.0));
+  EXPECT_NEAR(*kf.HeadingDeg(), 7.0, 1e-9);
+  EXPECT_NEAR(kf.HeadingStdDeg(), std::sqrt(2.0), 1e-9);
+  // A measurement far outside the prior is gated out instead of restarting the state.
+  CorridorKalman gated;
+  gated.SetHeading(0.0, 1.0);
+  EXPECT_FALSE(gated.UpdateHeading(12.0, 1.0));
+  EXPECT_NEAR(*gated.HeadingDeg(), 0.0, 1e-12);
+  // No distance came with it; a non-finite or non-positive prior is ignored.
+  EXPECT_FALSE(kf.DistanceM().has_value());
+  CorridorKalman none;
+  none.SetHeading(std::nan(""), 1.0);
+  none.SetHeading(3.0, 0.0);
+  EXPECT_FALSE(none.HeadingDeg().has_value());
+}
+
 TEST(CorridorKalmanOptions, ValidateRejectsBadValues) {
   CorridorKalmanOptions o;
   EXPECT_TRUE(o.Validate().empty());

@@ -282,6 +282,10 @@ struct ToyPlan {
   struct Wall {
     double x0, y0, x1, y1;
     bool seen = true;  // false: the sonar reads its columns unknown (a wall of the floor's grey)
+    // A floor-material edge, not a wall: the sonar reads it as a wall's base when it is beyond the
+    // blind range (there is no second step above it) and blocked near within it (the floor beyond
+    // fills the bottom rows, unlike the floor of the frame's other columns); the robot drives over it.
+    bool floor_edge = false;
   };
   std::vector<Wall> walls;
   Pose2 pose;
@@ -291,10 +295,11 @@ struct ToyPlan {
   static constexpr double kBlind = 1.2;
 
   // Distance along a ray to the first wall (a large number when none); that wall in *hit.
-  double Ray(double x, double y, double yaw, const Wall** hit = nullptr) const {
+  double Ray(double x, double y, double yaw, const Wall** hit = nullptr, bool floor_edges = false) const {
     const double dx = std::cos(yaw), dy = std::sin(yaw);
     double best = 1e9;
     for (const Wall& w : walls) {
+      if (w.floor_edge && !floor_edges) continue;
       double t = -1.0;
       if (w.x0 == w.x1) {  // vertical
         if (std::abs(dx) < 1e-12) continue;
@@ -337,7 +342,13 @@ struct ToyPlan {
         SonarColumn& c = scan[static_cast<std::size_t>(i)];
         c.bearing_rad = DegToRad(30.0 - 60.0 * (i + 0.5) / 64.0);
         const Wall* hit = nullptr;
-        const double r = Ray(pose.x, pose.y, pose.yaw + c.bearing_rad, &hit);
+        double r = Ray(pose.x, pose.y, pose.yaw + c.bearing_rad, &hit);
+        const Wall* edge = nullptr;
+        const double r_edge = Ray(pose.x, pose.y, pose.yaw + c.bearing_rad, &edge, true);
+        if (edge != nullptr && edge->floor_edge && r_edge < r) {
+          r = r_edge;
+          hit = edge;
+        }
         c.kind = r < kBlind || blind_floor ? SonarReturn::kBlockedNear : r > 6.0 ? SonarReturn::kFar : SonarReturn::kBoundary;
         if (hit != nullptr && !hit->seen && !blind_floor) c.kind = SonarReturn::kUnknown;
         c.range_m = c.kind == SonarReturn::kBoundary ? r : c.kind == SonarReturn::kBlockedNear ? 0.0 : 6.0;
@@ -413,6 +424,47 @@ TEST(Explorer, SideBranchMetFromTheBarIsRecordedAndTakenFirst) {
   EXPECT_EQ(node.branch[1], Branch::kWall);
   EXPECT_NE(node.branch[0], Branch::kWall);
   EXPECT_NE(node.branch[0], Branch::kUnknown);
+}
+
+// The same T with a floor-material edge across the branch's mouth, 0.25 m beyond the wall line
+// (`default`'s carpeted middle corridor): from the bar the sonar reads the edge as the wall going
+// on. Without branch_line_tolerance_m the branch is passed (the first turn is at the far end);
+// with it the readings beyond the wall line do not continue the wall, the branch is found and
+// taken first, and the robot drives over the edge (cleared from the memory while it crosses it)
+// down the branch without touching a wall.
+TEST(Explorer, SideBranchBehindAFloorEdgeIsFoundFromTheWallLine) {
+  for (const double tolerance : {0.0, 0.12}) {
+    SCOPED_TRACE(tolerance);
+    ToyPlan world = TPlan();
+    world.walls.push_back({9, -1.25, 11, -1.25, true, true});
+    ExplorerOptions o;
+    o.branch_line_tolerance_m = tolerance;
+    Explorer explorer(o);
+    double min_y = 0.0, max_x = 0.0;
+    bool hit_wall = false;
+    for (int i = 0; i < 30 * 150; ++i) {
+      world.Apply(explorer.Step(world.Perceive()));
+      min_y = std::min(min_y, world.pose.y);
+      if (explorer.Turns() == 0) max_x = std::max(max_x, world.pose.x);
+      for (double a = -kPi; a < kPi; a += kPi / 18)
+        if (world.Ray(world.pose.x, world.pose.y, a) < 0.25) hit_wall = true;
+    }
+    EXPECT_FALSE(hit_wall);
+    int first_turn = 0;
+    for (const ExploreEvent& e : explorer.Events())
+      if (e.kind == ExploreEvent::Kind::kTurn) {
+        first_turn = e.turn_deg;
+        break;
+      }
+    if (tolerance > 0.0) {
+      EXPECT_EQ(first_turn, -90);
+      EXPECT_LT(max_x, 11.0);
+      EXPECT_LT(min_y, -8.5);
+    } else {
+      EXPECT_NE(first_turn, -90);
+      EXPECT_GT(max_x, 22.0);
+    }
+  }
 }
 
 // Without the side-branch detector (the paper's behaviour) the same T is passed: the robot only
@@ -708,6 +760,14 @@ TEST(Explorer, SideWallSeenAbeamClosesAGapTowardIt) {
 }
 
 TEST(Explorer, OptionsValidateNamesTheField) {
+  {
+    ExplorerOptions o;
+    o.branch_line_tolerance_m = 0.7;  // beyond the band
+    EXPECT_NE(o.Validate().find("branch_line_band_m"), std::string::npos);
+    o = ExplorerOptions{};
+    o.heading_filter_prior_std_deg = -1.0;
+    EXPECT_NE(o.Validate().find("heading_filter_prior_std_deg"), std::string::npos);
+  }
   ExplorerOptions o;
   EXPECT_TRUE(o.Validate().empty());
   o.end_stop_dist_m = -1.0;

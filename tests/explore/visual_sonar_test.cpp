@@ -461,6 +461,24 @@ TEST(ObstacleMemory, RememberedWallLimitsFreeTravelAsTheRobotMoves) {
   EXPECT_EQ(mem.FreeTravel(moved, 0.0, radius, 5.0), 5.0);
 }
 
+TEST(ObstacleMemory, ClearRectRemovesOnlyThePointsInsideTheRectangle) {
+  const CameraModel cam = SonarCamera();
+  ObstacleMemory mem;
+  mem.Update(WallScan(cam, 2.0), Pose2{}, 0.0, 1.2);  // a wall across x = 2 (|y| up to ~1.15)
+  mem.Gather(Pose2{}, 0.0);
+  const std::size_t before = mem.Gathered().size();
+  ASSERT_GT(before, 10u);
+  // In a frame at (2, 0) facing +y: s along +y, l toward -x. Clear the wall's part with y > 0.3.
+  const int removed = mem.ClearRect(Pose2{2.0, 0.0, kPi / 2}, 0.3, 5.0, -0.2, 0.2);
+  mem.Gather(Pose2{}, 0.0);
+  EXPECT_EQ(static_cast<std::size_t>(removed), before - mem.Gathered().size());
+  EXPECT_GT(removed, 0);
+  for (const Eigen::Vector2d& p : mem.Gathered()) EXPECT_LE(p.y(), 0.3 + 1e-9);
+  // The rest of the wall still stops the robot straight ahead; nothing outside the rectangle went.
+  EXPECT_NEAR(mem.FreeTravel(Pose2{}, 0.0, 0.35, 5.0), 2.0 - 0.35, 0.02);
+  EXPECT_EQ(mem.ClearRect(Pose2{2.0, 0.0, kPi / 2}, 0.3, 5.0, -0.2, 0.2), 0);
+}
+
 TEST(ObstacleMemory, FloorSeenLaterClearsAStaleBoundary) {
   const CameraModel cam = SonarCamera();
   ObstacleMemory mem;

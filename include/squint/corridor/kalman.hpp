@@ -42,6 +42,9 @@ class CorridorKalman {
   explicit CorridorKalman(const CorridorKalmanOptions& options = {});
 
   void Reset();
+  // Sets the heading state to heading_deg with standard deviation std_deg (a prior from outside,
+  // e.g. the caller's own axis); the distance state is kept, their correlation dropped.
+  void SetHeading(double heading_deg, double std_deg);
   // Propagates the state by the odometry motion between the previous and this frame, expressed
   // in the previous robot frame (prev_T_curr = Between(world_T_prev, world_T_curr)); none when
   // odometry is unknown. Heading rotates by Δyaw; the distance shrinks by the motion's

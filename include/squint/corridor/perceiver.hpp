@@ -105,6 +105,9 @@ class Perceiver {
   // Restarts the heading filter (HeadingOptions::filter) from the next processed frame, keeping
   // everything else: the caller's reference axis changed (a new corridor).
   void ResetHeadingFilter();
+  // The same, starting from a prior heading (degrees, standard deviation std_deg) instead of
+  // from the next processed frame; a non-finite prior is no prior.
+  void ResetHeadingFilter(double prior_deg, double std_deg);
 
   const Options& GetOptions() const { return options_; }
   const CameraModel& GlanceCamera() const { return glance_camera_; }

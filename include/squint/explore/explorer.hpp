@@ -92,6 +92,12 @@ struct ExplorerOptions {
   // to restart the filter wherever the axis it is relative to changes. 0: off (the default;
   // `squint explore --heading-filter` sets 0.2; docs/explore.md, session 10).
   double filtered_axis_gain = 0.0;
+  // With the filter: a new corridor's filter starts from the heading the explorer's own axis
+  // implies (odometry yaw − axis: exact after a turn by odometry from a good axis) with this
+  // standard deviation, instead of from the next frame's estimate (a mouth's first views can be
+  // 10° off). After a re-acquisition it starts from the next frame. 0: never a prior (the default;
+  // not yet measured on the seeded starts, docs/explore.md, session 11).
+  double heading_filter_prior_std_deg = 0.0;
   // Alignment in place after the scan: take the median fused heading of align_frames fully
   // processed frames, rotate by it, repeat until below align_done_deg (at most align_rounds).
   int align_frames = 7;
@@ -189,6 +195,17 @@ struct ExplorerOptions {
   double branch_depth_m = 2.0;
   double branch_max_heading_deg = 15.0;  // no stop while heading farther than this off the axis
   double branch_known_radius_m = 0.8;    // a known junction is used only this close to its node
+  // The wall line of an armed side (the median of the run's last branch_line_samples abeam
+  // readings, in the corridor frame): a reading more than branch_line_tolerance_m beyond it is
+  // not that wall (a floor-material edge seen through an opening, which the sonar reads about
+  // 0.2 m beyond the wall line: `default`'s carpeted middle corridor), so it neither continues the
+  // run nor closes the opening's far edge, and the free-across test ignores what lies from
+  // branch_line_tolerance_m to branch_line_band_m beyond the line; once the robot turns into such
+  // an opening, that band is cleared from the memory until it has crossed it. 0 turns it off (the
+  // default; `squint explore --floor-edge-openings` sets 0.12; docs/explore.md, session 11).
+  double branch_line_tolerance_m = 0.0;
+  double branch_line_band_m = 0.6;
+  int branch_line_samples = 15;
   ObstacleMemoryOptions memory;
   TopoMapOptions map;
 
@@ -224,6 +241,8 @@ struct SideTrack {
   bool armed = false;          // a wall run long enough was seen: a gap after it is an opening
   bool consumed = false;       // this gap was handled (junction recorded, passed or rejected)
   double far_m = -1.0;         // the opening's far edge (travel coordinate), when seen
+  Eigen::Vector2d ref{0.0, 0.0};   // the run's first robot position (odometry frame)
+  std::vector<double> line;        // the run's last abeam readings as outward offsets from ref
 };
 
 class Explorer {
@@ -244,7 +263,9 @@ class Explorer {
   bool TakeGateReset();
   // True once after every new corridor starts and after every axis re-acquisition: the caller
   // restarts the Perceiver's heading filter (its state is relative to the previous axis).
-  bool TakeHeadingFilterReset();
+  // prior_deg (when given) is then the heading the axis implies (degrees; NaN: none, start from
+  // the next frame; heading_filter_prior_std_deg).
+  bool TakeHeadingFilterReset(double* prior_deg = nullptr);
   // True while the explorer turns or stands in place and needs every frame fully processed (scan, alignment):
   // the caller then resets the gate's reference before the frame (a still view never passes).
   bool WantsFullProcessing() const { return state_ == ExploreState::kAlign || state_ == ExploreState::kScan; }
@@ -313,6 +334,10 @@ class Explorer {
   // side wall at `left_m` / `right_m` (> 0) from the robot, running along the axis; infinity when
   // `yaw` does not lead toward such a wall or its centre would not reach the line within
   // lookahead_m + robot_radius_m.
+  // Free travel across toward an opening's side, ignoring the band beyond its wall line
+  // (line_m: the line's distance from the robot, < 0: none, the plain Free).
+  double FreeAcross(const Percept& p, double side_yaw, double line_m) const;
+  void ClearFloorEdgeBand(const Percept& p);
   double SideLineTravel(double yaw, double left_m, double right_m) const;
 
   ExplorerOptions opt_;
@@ -340,6 +365,7 @@ class Explorer {
   double last_ref_entropy_ = 0.0;
   bool gate_reset_ = true;
   bool heading_filter_reset_ = true;
+  bool heading_filter_prior_ = false;  // the reset may start from the axis' heading
   // Stall guard.
   double stall_since_s_ = -1.0;
   Pose2 stall_odom_;
@@ -375,6 +401,15 @@ class Explorer {
   double side_entropy_[2] = {0.0, 0.0};
   double side_free_m_[2] = {-1.0, -1.0};  // sonar free travel seen when probing each side
   int gap_side_dir_ = -1;  // map direction of the opening that made this stop (junctions only)
+  // The band beyond that opening's wall line (a floor edge seen through it), in the frame of the
+  // robot at the stop facing the side: cleared from the memory when the robot turns into it.
+  struct FloorEdgeBand {
+    bool valid = false;   // recorded at the stop
+    bool active = false;  // turned into it: cleared on every scan until crossed
+    int dir = -1;
+    Pose2 frame;
+    double s0 = 0.0, s1 = 0.0, half_width = 0.0;
+  } floor_edge_band_;
   int probe_sides_[2] = {1, 3};  // relative turns (in quarter turns) to probe
   int n_probes_ = 0;
   std::vector<int> dead_end_reprobes_;  // per node: arrivals whose dead-end sides were looked at again

@@ -89,6 +89,9 @@ class ObstacleMemory {
   // out to to_m, without marking any floor as seen (the explorer's blind views: a corridor in the
   // glance, so nothing stands within the sonar's blind range ahead).
   void ClearUnknownRays(const std::vector<SonarColumn>& scan, const Pose2& odom_T_robot, double to_m);
+  // Removes the remembered points (not confirmed ones) inside the rectangle [s0, s1] × [l0, l1] of
+  // the frame `frame` (s along its yaw, l to its left); returns how many. Gather again after it.
+  int ClearRect(const Pose2& frame, double s0, double s1, double l0, double l1);
 
  private:
   struct Cell {
