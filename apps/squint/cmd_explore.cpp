@@ -35,6 +35,7 @@ struct ExploreCliOptions {
   int eval_start = -1;  // >= 0: start i of `squint eval explore --seed SEED` (its pose and noise seed)
   bool heading_filter = false;
   bool floor_edge_openings = false;
+  bool light_centring = false;
 };
 
 // --heading-filter: the explorer's axis follows the Perceiver's heading filter, which the runner
@@ -45,6 +46,9 @@ void UseHeadingFilter(eval::ExploreRunOptions& ro) { ro.explorer.filtered_axis_g
 // line (ExplorerOptions::branch_line_tolerance_m).
 void UseFloorEdgeOpenings(eval::ExploreRunOptions& ro) { ro.explorer.branch_line_tolerance_m = 0.12; }
 
+// --light-centring: centre on the ceiling lights' line in the glance (ExplorerOptions::light_centre_gain).
+void UseLightCentring(eval::ExploreRunOptions& ro) { ro.explorer.light_centre_gain = 0.35; }
+
 void RunExploreCommand(const ExploreCliOptions& opt) {
   const sim::World world = sim::LoadWorld(opt.world);
   eval::ExploreRunOptions run_opt;
@@ -52,6 +56,7 @@ void RunExploreCommand(const ExploreCliOptions& opt) {
   run_opt.seed = opt.seed;
   if (opt.heading_filter) UseHeadingFilter(run_opt);
   if (opt.floor_edge_openings) UseFloorEdgeOpenings(run_opt);
+  if (opt.light_centring) UseLightCentring(run_opt);
   if (opt.eval_start >= 0) {
     // The same start pose and noise seed as run `eval_start` of `squint eval explore --seed SEED`.
     run_opt.start = eval::SeededStarts(world, opt.eval_start + 1, opt.seed).back();
@@ -81,6 +86,7 @@ struct EvalExploreOptions {
   std::string out = "explore-eval";
   bool heading_filter = false;
   bool floor_edge_openings = false;
+  bool light_centring = false;
 };
 
 std::string Fixed(double v, int d) {
@@ -112,6 +118,7 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
       ro.keep_trace = false;
       if (opt.heading_filter) UseHeadingFilter(ro);
       if (opt.floor_edge_openings) UseFloorEdgeOpenings(ro);
+      if (opt.light_centring) UseLightCentring(ro);
       if (std::string e = ro.Validate(); !e.empty()) throw Error("eval explore: " + e);
       const eval::ExploreRunResult run = eval::RunExplore(world, ro);
       const eval::ExploreSummary& s = run.summary;
@@ -218,6 +225,8 @@ void Register(CLI::App& root) {
                 "The explorer's corridor axis follows the Perceiver's heading filter over time (off by default; docs/explore.md, session 10)");
   cmd->add_flag("--floor-edge-openings", opt->floor_edge_openings,
                 "Find side openings past a floor edge read beyond the wall line (off by default; docs/explore.md, session 11)");
+  cmd->add_flag("--light-centring", opt->light_centring,
+                "Centre on the ceiling lights' line in the glance instead of the side walls (off by default; docs/explore.md, session 11)");
   cmd->callback([opt] { RunExploreCommand(*opt); });
 
   auto eopt = std::make_shared<EvalExploreOptions>();
@@ -230,6 +239,7 @@ void Register(CLI::App& root) {
   ex->add_option("--out", eopt->out, "Output folder: table.md, runs.csv, map-WORLD.png")->capture_default_str();
   ex->add_flag("--heading-filter", eopt->heading_filter, "As `squint explore --heading-filter`");
   ex->add_flag("--floor-edge-openings", eopt->floor_edge_openings, "As `squint explore --floor-edge-openings`");
+  ex->add_flag("--light-centring", eopt->light_centring, "As `squint explore --light-centring`");
   ex->callback([eopt] { RunEvalExplore(*eopt); });
 
   auto sopt = std::make_shared<SonarViewOptions>();

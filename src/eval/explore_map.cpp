@@ -141,7 +141,7 @@ void WriteExploreOutputs(const std::filesystem::path& dir, const sim::World& wor
   std::ostream& o = csv.Stream();
   o << "t_s,true_x_m,true_y_m,true_yaw_deg,odom_x_m,odom_y_m,odom_yaw_deg,processed,heading_deg,centre_heading_deg,"
        "dist_end_m,entropy_nats,heading_est_deg,dist_est_m,true_heading_deg,true_lateral_m,true_dist_end_m,state,"
-       "v_mps,omega_rps,collided\n";
+       "v_mps,omega_rps,collided,light_lateral_m,light_heading_deg,light_lateral_est_m\n";
   for (const ExploreTraceRow& r : run.trace) {
     o << Cell(r.t_s, 4) << ',' << Cell(r.world_T_robot.x, 4) << ',' << Cell(r.world_T_robot.y, 4) << ','
       << Cell(RadToDeg(r.world_T_robot.yaw), 3) << ',' << Cell(r.odom_T_robot.x, 4) << ',' << Cell(r.odom_T_robot.y, 4)
@@ -149,7 +149,8 @@ void WriteExploreOutputs(const std::filesystem::path& dir, const sim::World& wor
       << ',' << Cell(r.centre_heading_deg, 3) << ',' << Cell(r.dist_end_m, 3) << ',' << Cell(r.entropy, 4) << ','
       << Cell(r.heading_est_deg, 3) << ',' << Cell(r.dist_est_m, 3) << ',' << Cell(r.true_heading_deg, 3) << ','
       << Cell(r.true_lateral_m, 3) << ',' << Cell(r.true_dist_end_m, 3) << ',' << explore::StateName(r.state) << ','
-      << Cell(r.v_mps, 3) << ',' << Cell(r.omega_rps, 3) << ',' << (r.collided ? 1 : 0) << '\n';
+      << Cell(r.v_mps, 3) << ',' << Cell(r.omega_rps, 3) << ',' << (r.collided ? 1 : 0) << ',' << Cell(r.light_lateral_m, 3)
+      << ',' << Cell(r.light_heading_deg, 3) << ',' << Cell(r.light_lateral_est_m, 3) << '\n';
   }
   csv.Commit();
 

@@ -59,6 +59,7 @@ std::string ExploreRunOptions::Validate() const {
   if (glance_supersample < 1 || glance_supersample > 8) return "glance_supersample must be in [1, 8]";
   if (!(sensor_noise_sigma >= 0.0) || !std::isfinite(sensor_noise_sigma)) return "sensor_noise_sigma must be >= 0";
   if (sonar_every < 1 || sonar_every > 30) return "sonar_every must be in [1, 30]";
+  if (std::string e = light_line.Validate(); !e.empty()) return e;
   if (sonar_width < 16 || sonar_width > 640 || sonar_height < 12 || sonar_height > 480) return "sonar size must be within 16x12..640x480";
   if (sonar_supersample < 1 || sonar_supersample > 8) return "sonar_supersample must be in [1, 8]";
   if (std::string e = sonar.Validate(); !e.empty()) return "sonar." + e;
@@ -205,6 +206,17 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
     if (perception.heading.filter.enabled) p.heading_filtered_deg = r.heading_deg;
     p.dist_end_m = r.dist_end_m;
     p.centre_heading_deg = r.processed ? CentreCue(r) : std::nullopt;
+    if (explorer_options.light_centre_gain > 0.0) {
+      const double cpu2 = ThreadCpuSeconds();
+      const explore::LightLine light =
+          explore::FindLightLine(GrayView{glance.pixels.data(), corridor::kGlanceWidth, corridor::kGlanceHeight, corridor::kGlanceWidth},
+                                 glance_camera, options.light_line);
+      perception_cpu += ThreadCpuSeconds() - cpu2;
+      if (light.valid) {
+        p.light_lateral_m = light.LateralM(options.light_line.nominal_height_m);
+        p.light_heading_deg = RadToDeg(-light.direction_rad);
+      }
+    }
     p.glance_entropy_nats = r.entropy;
     if (sonar && f % options.sonar_every == 0) {
       MutableGrayView sv{sonar_image.data, sonar_image.cols, sonar_image.rows, static_cast<std::ptrdiff_t>(sonar_image.step)};
@@ -284,6 +296,10 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
       row.v_mps = cmd.v_mps;
       row.omega_rps = cmd.omega_rps;
       row.collided = step.collided;
+      row.light_lateral_m = Or(p.light_lateral_m);
+      row.light_heading_deg = Or(p.light_heading_deg);
+      double light_est = kNaN;
+      row.light_lateral_est_m = explorer.LightLateral(p.stamp_s, odom, &light_est) ? light_est : kNaN;
       out.trace.push_back(row);
     }
     if (progress && f % progress_every == 0) progress(static_cast<double>(f) / static_cast<double>(frames));

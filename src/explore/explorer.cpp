@@ -87,6 +87,12 @@ std::string ExplorerOptions::Validate() const {
   if (!Positive(sonar_open_free_m)) return "sonar_open_free_m must be positive";
   if (!NonNegative(sonar_centre_gain)) return "sonar_centre_gain must be >= 0";
   if (!Positive(sonar_centre_max_lateral_m)) return "sonar_centre_max_lateral_m must be positive";
+  if (!NonNegative(light_centre_gain)) return "light_centre_gain must be >= 0";
+  if (!Positive(light_heading_gate_deg)) return "light_heading_gate_deg must be positive";
+  if (!Positive(light_max_lateral_m)) return "light_max_lateral_m must be positive";
+  if (light_confirm < 1) return "light_confirm must be at least 1";
+  if (!Positive(light_agree_m)) return "light_agree_m must be positive";
+  if (!NonNegative(light_hold_s)) return "light_hold_s must be >= 0";
   if (!Positive(rescan_yaw_deg)) return "rescan_yaw_deg must be positive";
   if (!NonNegative(trust_memory_after_m)) return "trust_memory_after_m must be >= 0";
   if (!(trust_memory_max_wall_lines >= 0.0 && trust_memory_max_wall_lines <= 1.0)) return "trust_memory_max_wall_lines must be in [0, 1]";
@@ -571,6 +577,8 @@ void Explorer::StartFollow(const Percept&) {
   outlier_axes_.clear();
   lateral_cue_deg_ = 0.0;
   lateral_valid_ = false;
+  light_readings_.clear();
+  light_confirmed_s_ = -1.0;
   ref_entropy_.clear();
   ref_next_ = 0;
   gate_reset_ = true;
@@ -600,6 +608,8 @@ void Explorer::UpdateAxis(const Percept& p) {
         map_.CancelDeparture();
       }
       sides_[0] = sides_[1] = SideTrack{};  // walls seen in the old frame do not arm an opening
+      light_readings_.clear();
+      light_confirmed_s_ = -1.0;
       outlier_axes_.clear();
       heading_filter_reset_ = true;
       heading_filter_prior_ = false;
@@ -630,8 +640,42 @@ double Explorer::ReferenceEntropy() const {
   return v[k];
 }
 
+void Explorer::UpdateLight(const Percept& p) {
+  if (opt_.light_centre_gain <= 0.0 || !p.light_lateral_m || !p.light_heading_deg) return;
+  // Gated by the heading the explorer holds (a lit door frame or one row of two side rows fits a
+  // line too, but seldom along the corridor) and by the corridor's plausible half-width.
+  if (std::abs(*p.light_heading_deg - HeadingEstimateDeg()) > opt_.light_heading_gate_deg ||
+      std::abs(*p.light_lateral_m) > opt_.light_max_lateral_m)
+    return;
+  const Eigen::Vector2d o = p.odom_T_robot.Translation();
+  if (light_readings_.empty()) light_ref_ = o;
+  const Eigen::Vector2d n(-std::sin(axis_yaw_odom_), std::cos(axis_yaw_odom_));
+  light_readings_.push_back({p.stamp_s, *p.light_lateral_m + n.dot(o - light_ref_)});
+  if (static_cast<int>(light_readings_.size()) > opt_.light_confirm) light_readings_.erase(light_readings_.begin());
+  if (static_cast<int>(light_readings_.size()) < opt_.light_confirm) return;
+  // Confirmed when the last light_confirm readings, each within light_hold_s of the next, agree.
+  std::vector<double> v;
+  for (std::size_t i = 0; i < light_readings_.size(); ++i) {
+    if (i > 0 && light_readings_[i].stamp_s - light_readings_[i - 1].stamp_s > opt_.light_hold_s) return;
+    v.push_back(light_readings_[i].across_m);
+  }
+  std::sort(v.begin(), v.end());
+  if (v.back() - v.front() > opt_.light_agree_m) return;
+  light_across_m_ = v[v.size() / 2];
+  light_confirmed_s_ = p.stamp_s;
+}
+
+bool Explorer::LightLateral(double stamp_s, const Pose2& odom_T_robot, double* lateral_m) const {
+  if (opt_.light_centre_gain <= 0.0 || light_confirmed_s_ < 0.0 || stamp_s - light_confirmed_s_ > opt_.light_hold_s)
+    return false;
+  const Eigen::Vector2d n(-std::sin(axis_yaw_odom_), std::cos(axis_yaw_odom_));
+  *lateral_m = light_across_m_ - n.dot(odom_T_robot.Translation() - light_ref_);
+  return true;
+}
+
 Command Explorer::FollowStep(const Percept& p) {
   UpdateAxis(p);
+  UpdateLight(p);
   double wall_axis = 0.0;
   if (p.sonar != nullptr && travel_in_corridor_m_ > 1.0 && WallAxis(&wall_axis)) {
     // The walls the memory holds pull a drifted axis back (the glance's heading drifts at a T).
@@ -729,7 +773,11 @@ Command Explorer::FollowStep(const Percept& p) {
     double left = -1.0, right = -1.0;
     memory_.SideDistances(p.odom_T_robot, axis_yaw_odom_, 0.5, opt_.sonar_centre_max_lateral_m, &left, &right);
     correction = 0.0;
-    if (left > 0.0 && right > 0.0)
+    double light_lateral = 0.0;
+    if (LightLateral(p.stamp_s, p.odom_T_robot, &light_lateral))
+      correction = std::clamp(RadToDeg(-opt_.light_centre_gain * light_lateral), -opt_.max_centre_correction_deg,
+                              opt_.max_centre_correction_deg);
+    else if (left > 0.0 && right > 0.0)
       correction = std::clamp(RadToDeg(-opt_.sonar_centre_gain * 0.5 * (right - left)), -opt_.max_centre_correction_deg,
                               opt_.max_centre_correction_deg);
     const double desired_yaw = WrapPi(axis_yaw_odom_ + DegToRad(correction));
@@ -860,15 +908,28 @@ bool Explorer::TrackSides(const Percept& p) {
     if (FreeAcross(p, side_yaw, line_at[k]) < opt_.branch_depth_m) continue;
     // A crossing: the other side's opening is handled by the same stop (the probe looks at both).
     SideTrack& other = sides_[1 - k];
-    if (other.armed && wall[1 - k] <= 0.0) other.consumed = true;
+    const bool crossing = other.armed && wall[1 - k] <= 0.0;
+    if (crossing) other.consumed = true;
     if (OnOpening(p, k, width)) {
-      if (line_at[k] > 0.0 && gap_side_dir_ >= 0) {
-        floor_edge_band_.valid = true;
-        floor_edge_band_.dir = gap_side_dir_;
-        floor_edge_band_.frame = Pose2{o.x(), o.y(), side_yaw};
-        floor_edge_band_.s0 = line_at[k] + opt_.branch_line_tolerance_m;
-        floor_edge_band_.s1 = line_at[k] + opt_.branch_line_band_m;
-        floor_edge_band_.half_width = 0.5 * width + opt_.side_window_m;
+      if (opt_.branch_line_tolerance_m > 0.0 && gap_side_dir_ >= 0) {
+        // Past a floor edge the sonar may not show either side free from the mouth: each side
+        // whose wall line ended here is open when the entropy rule says so, and its band is
+        // cleared if the robot turns into it.
+        auto record = [&](int side, int dir, double line) {
+          if (line <= 0.0) return;
+          FloorEdgeBand& b = floor_edge_candidates_[static_cast<std::size_t>(side)];
+          b.valid = true;
+          b.dir = dir;
+          b.frame = Pose2{o.x(), o.y(), WrapPi(axis_yaw_odom_ + (side == 0 ? 0.5 : -0.5) * kPi)};
+          b.s0 = line + opt_.branch_line_tolerance_m;
+          b.s1 = line + opt_.branch_line_band_m;
+          b.half_width = 0.5 * width + opt_.side_window_m;
+        };
+        record(k, gap_side_dir_, line_at[k]);
+        if (crossing) {
+          gap_other_dir_ = (dir_ + (k == 0 ? 3 : 1)) & 3;
+          record(1 - k, gap_other_dir_, line_at[1 - k]);
+        }
       }
       return true;
     }
@@ -930,8 +991,9 @@ void Explorer::StartProbe() {
   }
   last_ref_entropy_ = ReferenceEntropy();
   side_free_m_[0] = side_free_m_[1] = -1.0;
-  gap_side_dir_ = -1;
+  gap_side_dir_ = gap_other_dir_ = -1;
   floor_edge_band_.valid = floor_edge_band_.active = false;
+  floor_edge_candidates_[0].valid = floor_edge_candidates_[1].valid = false;
   state_ = ExploreState::kProbe;
   probe_phase_ = 0;
   look_count_ = 0;
@@ -996,7 +1058,7 @@ Command Explorer::ProbeStep(const Percept& p) {
   // the mouth of a branch the sonar's blind range often holds a wall corner).
   const bool open_by_entropy = h >= opt_.open_entropy_ratio * last_ref_entropy_;
   const bool open = sonar_seen_ ? side_free_m_[probe_phase_] >= opt_.sonar_open_free_m ||
-                                      (side_dir == gap_side_dir_ && open_by_entropy)
+                                      ((side_dir == gap_side_dir_ || side_dir == gap_other_dir_) && open_by_entropy)
                                 : open_by_entropy;
   map_.SetBranch(node_, side_dir, open ? Branch::kOpen : Branch::kWall);
   ++n_probes_;
@@ -1059,8 +1121,14 @@ Command Explorer::TurnStep(const Percept& p) {
   dir_ = turn_to_dir_;
   map_yaw_offset_ = WrapPi(axis_yaw_odom_ - YawOfDirection(dir_));
   map_.Depart(node_, dir_);
-  const bool into_band = floor_edge_band_.valid && floor_edge_band_.dir == dir_;
-  floor_edge_band_.valid = false;
+  bool into_band = false;
+  for (FloorEdgeBand& b : floor_edge_candidates_) {
+    if (b.valid && b.dir == dir_) {
+      floor_edge_band_ = b;
+      into_band = true;
+    }
+    b.valid = false;
+  }
   StartFollow(p);
   if (into_band) {
     // Into an opening found past a floor edge: until the robot has crossed that band, what the

@@ -15,6 +15,7 @@
 #include "squint/core/pose.hpp"
 #include "squint/corridor/options.hpp"
 #include "squint/explore/explorer.hpp"
+#include "squint/explore/light_line.hpp"
 #include "squint/explore/obstacle_advice.hpp"
 #include "squint/obstacles/avoider.hpp"
 #include "squint/obstacles/ipt_pipeline.hpp"
@@ -43,6 +44,8 @@ struct ExploreRunOptions {
   int sonar_height = 48;
   int sonar_supersample = 2;
   explore::VisualSonarOptions sonar;
+  // The ceiling lights' line in each glance, found where explorer.light_centre_gain > 0.
+  explore::LightLineOptions light_line;
   // Obstacle pipeline (issue 6: IPT feature classification, outlines, contacts, polar map,
   // free-gap steering) on a camera frame of ipt_width × ipt_height rendered every ipt_every frames
   // while the explorer follows a corridor; each frame is paired with the previous one (odometry
@@ -99,6 +102,8 @@ struct ExploreTraceRow {
   explore::ExploreState state = explore::ExploreState::kScan;
   double v_mps = 0.0, omega_rps = 0.0;
   bool collided = false;
+  // The light line of the glance (when found) and the explorer's confirmed lateral from it.
+  double light_lateral_m = 0.0, light_heading_deg = 0.0, light_lateral_est_m = 0.0;
 };
 
 // An event placed on the true map (for the figure) with its number in time order.

@@ -150,6 +150,18 @@ struct ExplorerOptions {
   double sonar_open_free_m = 2.0;     // probing: a side is open when it is free this far
   double sonar_centre_gain = 0.35;    // rad of target heading per metre of lateral offset
   double sonar_centre_max_lateral_m = 1.8;  // side points farther than this do not centre
+  // Centring on the ceiling lights' line (Percept::light_lateral_m, paper §4.1.5's remark that
+  // lights move with translation) in place of the sonar's side walls, at this gain (rad of target
+  // heading per metre; 0: off, the default; `squint explore --light-centring` sets 0.35). A reading
+  // counts when its heading is within light_heading_gate_deg of the explorer's own and its offset
+  // within light_max_lateral_m; the offset is used once light_confirm readings in a row agree
+  // within light_agree_m (in the corridor frame, by odometry), and for light_hold_s after the last.
+  double light_centre_gain = 0.0;
+  double light_heading_gate_deg = 3.0;
+  double light_max_lateral_m = 0.9;
+  int light_confirm = 3;
+  double light_agree_m = 0.15;
+  double light_hold_s = 1.0;
   double rescan_yaw_deg = 12.0;       // no forward motion until a scan was taken at the heading
   // Following: after this travel in the corridor the latest scan's blocked-near columns block only
   // the narrow sector at the blind range, and those along which the floor in the blind zone was
@@ -265,6 +277,9 @@ class Explorer {
   // restarts the Perceiver's heading filter (its state is relative to the previous axis).
   // prior_deg (when given) is then the heading the axis implies (degrees; NaN: none, start from
   // the next frame; heading_filter_prior_std_deg).
+  // The robot's confirmed lateral position from the ceiling lights' line (metres, left positive)
+  // at time stamp_s and odometry pose odom_T_robot; false when none (light_centre_gain).
+  bool LightLateral(double stamp_s, const Pose2& odom_T_robot, double* lateral_m) const;
   bool TakeHeadingFilterReset(double* prior_deg = nullptr);
   // True while the explorer turns or stands in place and needs every frame fully processed (scan, alignment):
   // the caller then resets the gate's reference before the frame (a still view never passes).
@@ -354,6 +369,17 @@ class Explorer {
   int dir_ = 0;                 // map direction being driven
   double lateral_cue_deg_ = 0.0;
   bool lateral_valid_ = false;
+  // The light line's recent readings as offsets across the corridor from light_ref_ (odometry
+  // frame, left of the axis positive), and the last time they were confirmed.
+  struct LightReading {
+    double stamp_s = 0.0;
+    double across_m = 0.0;
+  };
+  std::vector<LightReading> light_readings_;
+  Eigen::Vector2d light_ref_ = Eigen::Vector2d::Zero();
+  double light_across_m_ = 0.0;
+  double light_confirmed_s_ = -1.0;
+  void UpdateLight(const Percept& p);
 
   // Follow.
   double dist_end_m_ = -1.0;
@@ -401,6 +427,7 @@ class Explorer {
   double side_entropy_[2] = {0.0, 0.0};
   double side_free_m_[2] = {-1.0, -1.0};  // sonar free travel seen when probing each side
   int gap_side_dir_ = -1;  // map direction of the opening that made this stop (junctions only)
+  int gap_other_dir_ = -1;  // the other side's, at a crossing found past a floor edge
   // The band beyond that opening's wall line (a floor edge seen through it), in the frame of the
   // robot at the stop facing the side: cleared from the memory when the robot turns into it.
   struct FloorEdgeBand {
@@ -410,6 +437,7 @@ class Explorer {
     Pose2 frame;
     double s0 = 0.0, s1 = 0.0, half_width = 0.0;
   } floor_edge_band_;
+  FloorEdgeBand floor_edge_candidates_[2];  // recorded at the stop, one per side (left, right)
   int probe_sides_[2] = {1, 3};  // relative turns (in quarter turns) to probe
   int n_probes_ = 0;
   std::vector<int> dead_end_reprobes_;  // per node: arrivals whose dead-end sides were looked at again

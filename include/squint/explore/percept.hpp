@@ -36,6 +36,11 @@ struct Percept {
   std::optional<double> heading_filtered_deg;
   std::optional<double> centre_heading_deg;  // translation-sensitive cues (bright pixels, symmetry)
   std::optional<double> dist_end_m;          // fused distance to the corridor's end
+  // The ceiling lights' line in the glance (light_line.hpp), when one was found this frame: the
+  // robot's lateral position from it (metres at the nominal light height, left positive) and the
+  // robot's heading relative to it (degrees, left positive).
+  std::optional<double> light_lateral_m;
+  std::optional<double> light_heading_deg;
   // Whole-glance grey-level entropy (nats); the gate computes it on every frame, processed or not.
   std::optional<double> glance_entropy_nats;
   std::optional<ObstacleAdvice> obstacles;   // empty when the obstacle pipeline is off
