@@ -8,22 +8,14 @@
 #include <cmath>
 #include <vector>
 
+#include "default_camera.hpp"
 #include "squint/core/angles.hpp"
 
 namespace squint::explore {
 namespace {
 
-CameraModel GlanceCamera() {
-  CameraModel c;
-  c.width = 32;
-  c.height = 24;
-  c.fx = c.fy = 16.0 / std::tan(DegToRad(30.0));
-  c.cx = 15.5;
-  c.cy = 11.5;
-  c.height_m = 0.6;
-  c.pitch_deg = -3.0;
-  return c;
-}
+// The default world's camera at the glance's 32×24.
+CameraModel GlanceCamera() { return testing::DefaultWorldCamera(32, 24); }
 
 // A 32×24 view of a ceiling `height` above the camera carrying rows of lights (0.3 m wide, 1.2 m
 // long, every 3 m from 1 m ahead) at lateral offsets `rows_at` (left positive) from the robot,

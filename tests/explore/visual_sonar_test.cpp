@@ -13,22 +13,13 @@
 #include "squint/core/angles.hpp"
 #include "squint/core/error.hpp"
 #include "squint/explore/obstacle_memory.hpp"
+#include "default_camera.hpp"
 
 namespace squint::explore {
 namespace {
 
-CameraModel SonarCamera() {
-  // The default world's camera (0.6 m high, pitched 3° down, 60° wide) at 64×48.
-  CameraModel c;
-  c.width = 64;
-  c.height = 48;
-  c.fx = c.fy = 32.0 / std::tan(DegToRad(30.0));
-  c.cx = 31.5;
-  c.cy = 23.5;
-  c.height_m = 0.6;
-  c.pitch_deg = -3.0;
-  return c;
-}
+// The default world's camera at 64×48.
+CameraModel SonarCamera() { return testing::DefaultWorldCamera(64, 48); }
 
 struct Image {
   std::vector<std::uint8_t> px;
