@@ -42,8 +42,8 @@ TEST(PlotTest, RendersRequestedSizeAndDrawsSeriesInItsColour) {
 
 TEST(PlotTest, WritesAReadablePng) {
   const auto path = std::filesystem::temp_directory_path() / "squint_plot_test.png";
-  PlotSeries a{"roc", {0, 0.1, 1}, {0, 0.9, 1}, PlotStyle::kLineAndMarkers};
-  PlotSeries b{"scatter", {0.2, 0.4}, {0.3, 0.6}, PlotStyle::kScatter};
+  PlotSeries a{"roc", {0, 0.1, 1}, {0, 0.9, 1}, PlotStyle::kLineAndMarkers, std::nullopt};
+  PlotSeries b{"scatter", {0.2, 0.4}, {0.3, 0.6}, PlotStyle::kScatter, std::nullopt};
   PlotOptions opt;
   opt.title = "title";
   opt.x_label = "x";
@@ -59,8 +59,8 @@ TEST(PlotTest, WritesAReadablePng) {
 TEST(PlotTest, EmptyAndDegenerateDataStillRender) {
   PlotOptions opt;
   EXPECT_NO_THROW(RenderPlot({}, opt));
-  PlotSeries s{"one point", {2.0}, {2.0}, PlotStyle::kScatter};
-  PlotSeries nan{"nan", {0.0, std::nan("")}, {1.0, 2.0}};
+  PlotSeries s{"one point", {2.0}, {2.0}, PlotStyle::kScatter, std::nullopt};
+  PlotSeries nan{"nan", {0.0, std::nan("")}, {1.0, 2.0}, PlotStyle::kLine, std::nullopt};
   EXPECT_NO_THROW(RenderPlot({s, nan}, opt));
 }
 

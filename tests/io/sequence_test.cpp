@@ -286,7 +286,9 @@ TEST(Sequence, ReadsEverySharedDataSequence) {
     EXPECT_TRUE(s.HasOdometry()) << e.path();
     const cv::Mat first = s.LoadImage(0);
     EXPECT_EQ(first.cols, s.Camera().width);
-    if (s.HasLabels()) EXPECT_EQ(s.LoadLabel(0).size(), first.size());
+    if (s.HasLabels()) {
+      EXPECT_EQ(s.LoadLabel(0).size(), first.size());
+    }
     ++sequences;
   }
   EXPECT_GT(sequences, 0);

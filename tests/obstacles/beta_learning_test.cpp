@@ -68,8 +68,11 @@ TEST(BetaLearning, RefinementBandCoversTheFalsePositives) {
   EXPECT_LT(t.beta_m, 0.05);
   ASSERT_TRUE(t.refine_high_m.has_value());
   // Every ground point above β lies inside the band.
-  for (const auto& x : s)
-    if (!x.obstacle && x.discrepancy_m > t.beta_m) EXPECT_LE(x.discrepancy_m, *t.refine_high_m + 1e-12);
+  for (const auto& x : s) {
+    if (!x.obstacle && x.discrepancy_m > t.beta_m) {
+      EXPECT_LE(x.discrepancy_m, *t.refine_high_m + 1e-12);
+    }
+  }
 }
 
 TEST(BetaLearning, LearnedBandLeavesTheOverlapUnclassified) {

@@ -201,7 +201,9 @@ TEST(FeatureTracker, UprightOrbIsOrbFastScoreUnrotated) {
           EXPECT_EQ(again[i].pt, got[i].pt) << where << " after image " << j << " keypoint " << i;
           EXPECT_EQ(again[i].response, got[i].response) << where << " after image " << j << " keypoint " << i;
         }
-        if (!got.empty()) EXPECT_EQ(cv::norm(again_desc, got_desc, cv::NORM_L1), 0.0) << where << " after " << j;
+        if (!got.empty()) {
+          EXPECT_EQ(cv::norm(again_desc, got_desc, cv::NORM_L1), 0.0) << where << " after " << j;
+        }
       }
       ASSERT_EQ(got.size(), want.size()) << where;
       for (std::size_t i = 0; i < got.size(); ++i) {

@@ -40,7 +40,7 @@ TEST_P(IptGeometryTest, FloorPointHasZeroDiscrepancyAndElevatedPointTheAnalyticO
   const CameraModel cam = PaperCamera();
   const auto [a, b] = GetParam();
   const double moved = std::hypot(b.x - a.x, b.y - a.y);
-  for (const Eigen::Vector3d base : {Eigen::Vector3d(1.5, 0.2, 0.0), Eigen::Vector3d(2.5, -0.4, 0.0)}) {
+  for (const Eigen::Vector3d& base : {Eigen::Vector3d(1.5, 0.2, 0.0), Eigen::Vector3d(2.5, -0.4, 0.0)}) {
     // The point `base` ahead of the first pose, on the floor.
     const Eigen::Vector2d ahead = a.Apply(base.head<2>());
     const Eigen::Vector3d floor_world(ahead.x(), ahead.y(), 0.0);
@@ -80,7 +80,7 @@ TEST_P(IptGeometryTest, MirrorAwareDiscrepancyIsDAboveTheFloorAndZeroForReflecti
   const CameraModel cam = PaperCamera();
   const auto [a, b] = GetParam();
   const Eigen::Vector2d dc = b.Apply(cam.RobotCameraCentre().head<2>()) - a.Apply(cam.RobotCameraCentre().head<2>());
-  for (const Eigen::Vector3d base : {Eigen::Vector3d(1.5, 0.2, 0.0), Eigen::Vector3d(2.5, -0.4, 0.0)}) {
+  for (const Eigen::Vector3d& base : {Eigen::Vector3d(1.5, 0.2, 0.0), Eigen::Vector3d(2.5, -0.4, 0.0)}) {
     const Eigen::Vector2d ahead = a.Apply(base.head<2>());
     for (double z : {0.0, -0.05, -0.3, -2.0}) {  // the floor and mirror images below it
       const Eigen::Vector3d p(ahead.x(), ahead.y(), z);
@@ -130,7 +130,7 @@ TEST_P(IptGeometryTest, MirrorAwareDiscrepancyIsDAboveTheFloorAndZeroForReflecti
 TEST_P(IptGeometryTest, MotionEpipolarErrorIsZeroForStaticPointsAndGrowsOffTheEpipolarLine) {
   const CameraModel cam = PaperCamera();
   const auto [a, b] = GetParam();
-  for (const Eigen::Vector3d base : {Eigen::Vector3d(1.5, 0.2, 0.0), Eigen::Vector3d(2.5, -0.4, 0.0)}) {
+  for (const Eigen::Vector3d& base : {Eigen::Vector3d(1.5, 0.2, 0.0), Eigen::Vector3d(2.5, -0.4, 0.0)}) {
     const Eigen::Vector2d ahead = a.Apply(base.head<2>());
     for (double z : {0.0, 0.2, 0.35, -0.3}) {
       const Eigen::Vector3d p(ahead.x(), ahead.y(), z);
@@ -232,7 +232,9 @@ TEST(PairGeometry, EqualsTheSingleFunctions) {
           EXPECT_EQ(m.above_horizon, AboveHorizon(cam, current));
           const auto epi = MotionEpipolarErrorPx(cam, a, previous, b, current);
           ASSERT_EQ(m.motion_epipolar_px.has_value(), epi.has_value());
-          if (epi) EXPECT_EQ(*m.motion_epipolar_px, *epi);
+          if (epi) {
+            EXPECT_EQ(*m.motion_epipolar_px, *epi);
+          }
           if (m.above_horizon) continue;
           const auto d = AllDiscrepancies(cam, a, previous, b, current);
           ASSERT_EQ(m.discrepancies.has_value(), d.has_value()) << u << " " << v;
