@@ -282,19 +282,8 @@ double Explorer::FreeAcross(const Percept& p, double side_yaw, double line_m) co
   if (line_m < 0.0) return Free(p, side_yaw, max_m);
   // As Free (the remembered points only: the latest scan looks ahead, not across), leaving out the
   // band beyond the armed side's wall line where a floor edge seen through the opening lies.
-  const Eigen::Vector2d o = p.odom_T_robot.Translation();
-  const Eigen::Vector2d d(std::cos(side_yaw), std::sin(side_yaw));
-  const double r = opt_.robot_radius_m + opt_.safety_margin_m;
-  double free = max_m;
-  for (const Eigen::Vector2d& m : memory_.Gathered()) {
-    const Eigen::Vector2d q = m - o;
-    const double s = q.dot(d);
-    const double l = d.x() * q.y() - d.y() * q.x();
-    if (l * l >= r * r || s < 0.0) continue;
-    if (s > line_m + opt_.branch_line_tolerance_m && s <= line_m + opt_.branch_line_band_m) continue;
-    free = std::min(free, std::max(0.0, s - std::sqrt(r * r - l * l)));
-  }
-  return free;
+  return memory_.PointsFreeTravel(p.odom_T_robot, side_yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m,
+                                  line_m + opt_.branch_line_tolerance_m, line_m + opt_.branch_line_band_m);
 }
 
 double Explorer::SideLineTravel(double yaw, double left_m, double right_m) const {

@@ -208,7 +208,6 @@ double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double 
                                   bool use_blocked, bool seen_free_exempts) const {
   const Eigen::Vector2d o = odom_T_robot.Translation();
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
-  const double r2 = radius_m * radius_m;
   double free = max_m;
   // The latest scan's columns blocked nearer than the blind range: a direction whose swept band
   // meets one of them at the blind range has no free travel (from where that scan was taken).
@@ -231,11 +230,21 @@ double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double 
       break;
     }
   }
+  return std::min(free, PointsFreeTravel(odom_T_robot, yaw, radius_m, max_m));
+}
+
+double ObstacleMemory::PointsFreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m,
+                                        double skip_from_m, double skip_to_m) const {
+  const Eigen::Vector2d o = odom_T_robot.Translation();
+  const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
+  const double r2 = radius_m * radius_m;
+  double free = max_m;
   for (const Eigen::Vector2d& p : gathered_) {
     const Eigen::Vector2d q = p - o;
     const double s = q.dot(d);
     const double l = d.x() * q.y() - d.y() * q.x();
     if (l * l >= r2 || s < 0.0) continue;  // beside the swept band, or behind the centre
+    if (s > skip_from_m && s <= skip_to_m) continue;
     const double hit = s - std::sqrt(r2 - l * l);
     free = std::min(free, std::max(0.0, hit));
   }

@@ -72,6 +72,11 @@ class ObstacleMemory {
   // floor from farther back).
   double FreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m, bool use_blocked = true,
                     bool seen_free_exempts = true) const;
+  // The same sweep against the gathered points only (no blocked-near columns), leaving out the
+  // points whose distance along `yaw` lies in (skip_from_m, skip_to_m] (none when skip_to_m <=
+  // skip_from_m).
+  double PointsFreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m, double skip_from_m = 0.0,
+                          double skip_to_m = 0.0) const;
   // Nearest remembered point abeam on each side, as lateral distances from the robot along the
   // axis `axis_yaw` (odometry frame), among points within ±along_window_m along the axis.
   // Negative when none.
