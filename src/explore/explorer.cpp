@@ -246,10 +246,10 @@ void Explorer::RotateAxis(double by_rad) {
 }
 
 void Explorer::ClearFloorEdgeBand(const Percept& p) {
-  FloorEdgeBand& b = floor_edge_band_;
-  if (!b.active) return;
+  if (!floor_edge_band_) return;
+  const FloorEdgeBand& b = *floor_edge_band_;
   if (state_ != ExploreState::kFollow || travel_in_corridor_m_ > b.s1 + opt_.robot_radius_m) {
-    b.active = false;
+    floor_edge_band_.reset();
     return;
   }
   memory_.ClearRect(b.frame, b.s0, b.s1, -b.half_width, b.half_width);
@@ -263,7 +263,7 @@ bool Explorer::UseBlocked(double yaw) const {
   // step).
   // Likewise while crossing the floor edge of an opening just turned into (floor_edge_band_).
   return !(state_ == ExploreState::kFollow &&
-           (travel_in_corridor_m_ >= opt_.trust_memory_after_m || floor_edge_band_.active) &&
+           (travel_in_corridor_m_ >= opt_.trust_memory_after_m || floor_edge_band_.has_value()) &&
            std::abs(WrapPi(yaw - axis_yaw_odom_)) < DegToRad(45.0));
 }
 
@@ -629,6 +629,8 @@ double Explorer::ReferenceEntropy() const {
   return v[k];
 }
 
+Eigen::Vector2d Explorer::AxisLeft() const { return {-std::sin(axis_yaw_odom_), std::cos(axis_yaw_odom_)}; }
+
 void Explorer::UpdateLight(const Percept& p) {
   if (opt_.light_centre_gain <= 0.0 || !p.light_lateral_m || !p.light_heading_deg) return;
   // Gated by the heading the explorer holds (a lit door frame or one row of two side rows fits a
@@ -638,8 +640,7 @@ void Explorer::UpdateLight(const Percept& p) {
     return;
   const Eigen::Vector2d o = p.odom_T_robot.Translation();
   if (light_readings_.empty()) light_ref_ = o;
-  const Eigen::Vector2d n(-std::sin(axis_yaw_odom_), std::cos(axis_yaw_odom_));
-  light_readings_.push_back({p.stamp_s, *p.light_lateral_m + n.dot(o - light_ref_)});
+  light_readings_.push_back({p.stamp_s, *p.light_lateral_m + AxisLeft().dot(o - light_ref_)});
   if (static_cast<int>(light_readings_.size()) > opt_.light_confirm) light_readings_.erase(light_readings_.begin());
   if (static_cast<int>(light_readings_.size()) < opt_.light_confirm) return;
   // Confirmed when the last light_confirm readings, each within light_hold_s of the next, agree.
@@ -657,8 +658,7 @@ void Explorer::UpdateLight(const Percept& p) {
 bool Explorer::LightLateral(double stamp_s, const Pose2& odom_T_robot, double* lateral_m) const {
   if (opt_.light_centre_gain <= 0.0 || light_confirmed_s_ < 0.0 || stamp_s - light_confirmed_s_ > opt_.light_hold_s)
     return false;
-  const Eigen::Vector2d n(-std::sin(axis_yaw_odom_), std::cos(axis_yaw_odom_));
-  *lateral_m = light_across_m_ - n.dot(odom_T_robot.Translation() - light_ref_);
+  *lateral_m = light_across_m_ - AxisLeft().dot(odom_T_robot.Translation() - light_ref_);
   return true;
 }
 
@@ -833,7 +833,7 @@ bool Explorer::TrackSides(const Percept& p) {
   const Eigen::Vector2d d(std::cos(axis_yaw_odom_), std::sin(axis_yaw_odom_));
   // Each side's outward normal, the robot's outward offset from the run's start, and where an
   // armed side's wall line lies from the robot (< 0: no line, every reading is that wall).
-  Eigen::Vector2d normal[2] = {Eigen::Vector2d(-d.y(), d.x()), Eigen::Vector2d(d.y(), -d.x())};
+  const Eigen::Vector2d normal[2] = {AxisLeft(), -AxisLeft()};
   double line_at[2] = {-1.0, -1.0};
   for (int k = 0; k < 2; ++k) {
     const SideTrack& tr = sides_[k];
@@ -906,13 +906,10 @@ bool Explorer::TrackSides(const Percept& p) {
         // cleared if the robot turns into it.
         auto record = [&](int side, int dir, double line) {
           if (line <= 0.0) return;
-          FloorEdgeBand& b = floor_edge_candidates_[static_cast<std::size_t>(side)];
-          b.valid = true;
-          b.dir = dir;
-          b.frame = Pose2{o.x(), o.y(), WrapPi(axis_yaw_odom_ + (side == 0 ? 0.5 : -0.5) * kPi)};
-          b.s0 = line + opt_.branch_line_tolerance_m;
-          b.s1 = line + opt_.branch_line_band_m;
-          b.half_width = 0.5 * width + opt_.side_window_m;
+          floor_edge_candidates_[side] =
+              FloorEdgeBand{dir, Pose2{o.x(), o.y(), WrapPi(axis_yaw_odom_ + (side == 0 ? 0.5 : -0.5) * kPi)},
+                            line + opt_.branch_line_tolerance_m, line + opt_.branch_line_band_m,
+                            0.5 * width + opt_.side_window_m};
         };
         record(k, gap_side_dir_, line_at[k]);
         if (crossing) {
@@ -981,8 +978,9 @@ void Explorer::StartProbe() {
   last_ref_entropy_ = ReferenceEntropy();
   side_free_m_[0] = side_free_m_[1] = -1.0;
   gap_side_dir_ = gap_other_dir_ = -1;
-  floor_edge_band_.valid = floor_edge_band_.active = false;
-  floor_edge_candidates_[0].valid = floor_edge_candidates_[1].valid = false;
+  floor_edge_band_.reset();
+  floor_edge_candidates_[0].reset();
+  floor_edge_candidates_[1].reset();
   state_ = ExploreState::kProbe;
   probe_phase_ = 0;
   look_count_ = 0;
@@ -1110,19 +1108,16 @@ Command Explorer::TurnStep(const Percept& p) {
   dir_ = turn_to_dir_;
   map_yaw_offset_ = WrapPi(axis_yaw_odom_ - YawOfDirection(dir_));
   map_.Depart(node_, dir_);
-  bool into_band = false;
-  for (FloorEdgeBand& b : floor_edge_candidates_) {
-    if (b.valid && b.dir == dir_) {
-      floor_edge_band_ = b;
-      into_band = true;
-    }
-    b.valid = false;
+  std::optional<FloorEdgeBand> into_band;
+  for (std::optional<FloorEdgeBand>& b : floor_edge_candidates_) {
+    if (b && b->dir == dir_) into_band = b;
+    b.reset();
   }
   StartFollow(p);
   if (into_band) {
     // Into an opening found past a floor edge: until the robot has crossed that band, what the
     // memory holds there (seen again from the mouth, nearer than any second step) is floor.
-    floor_edge_band_.active = true;
+    floor_edge_band_ = into_band;
     ClearFloorEdgeBand(p);
   }
   return {};

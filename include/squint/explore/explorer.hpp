@@ -4,6 +4,7 @@
 // branches. Input: camera-derived Percepts and wheel odometry only; output: (v, ω) commands.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -353,6 +354,8 @@ class Explorer {
   // (line_m: the line's distance from the robot, < 0: none, the plain Free).
   double FreeAcross(const Percept& p, double side_yaw, double line_m) const;
   void ClearFloorEdgeBand(const Percept& p);
+  // The unit vector to the left of the corridor axis (odometry frame).
+  Eigen::Vector2d AxisLeft() const;
   double SideLineTravel(double yaw, double left_m, double right_m) const;
 
   ExplorerOptions opt_;
@@ -428,16 +431,16 @@ class Explorer {
   double side_free_m_[2] = {-1.0, -1.0};  // sonar free travel seen when probing each side
   int gap_side_dir_ = -1;  // map direction of the opening that made this stop (junctions only)
   int gap_other_dir_ = -1;  // the other side's, at a crossing found past a floor edge
-  // The band beyond that opening's wall line (a floor edge seen through it), in the frame of the
-  // robot at the stop facing the side: cleared from the memory when the robot turns into it.
+  // The band beyond an opening's wall line (a floor edge seen through it), in the frame of the
+  // robot at the stop facing that side (map direction dir): cleared from the memory when the robot
+  // turns into it.
   struct FloorEdgeBand {
-    bool valid = false;   // recorded at the stop
-    bool active = false;  // turned into it: cleared on every scan until crossed
     int dir = -1;
     Pose2 frame;
     double s0 = 0.0, s1 = 0.0, half_width = 0.0;
-  } floor_edge_band_;
-  FloorEdgeBand floor_edge_candidates_[2];  // recorded at the stop, one per side (left, right)
+  };
+  std::optional<FloorEdgeBand> floor_edge_candidates_[2];  // recorded at the stop, per side (left, right)
+  std::optional<FloorEdgeBand> floor_edge_band_;  // turned into: cleared on every scan until crossed
   int probe_sides_[2] = {1, 3};  // relative turns (in quarter turns) to probe
   int n_probes_ = 0;
   std::vector<int> dead_end_reprobes_;  // per node: arrivals whose dead-end sides were looked at again
