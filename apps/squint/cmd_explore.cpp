@@ -27,36 +27,62 @@
 namespace squint::app {
 namespace {
 
+// The explorer's optional behaviours, the same flags on `explore` and `eval explore`.
+struct ExplorerVariants {
+  // --heading-filter: the explorer's axis follows the Perceiver's heading filter, which the runner
+  // then runs beside the per-frame fusion (ExplorerOptions::filtered_axis_gain).
+  bool heading_filter = false;
+  // --heading-prior-std DEG: with the filter, a new corridor's filter starts from the explorer's
+  // axis with this standard deviation (ExplorerOptions::heading_filter_prior_std_deg).
+  double heading_prior_std_deg = 0.0;
+  // --floor-edge-openings: side openings are found past a floor-material edge read beyond the wall
+  // line (ExplorerOptions::branch_line_tolerance_m).
+  bool floor_edge_openings = false;
+  // --light-centring: centre on the ceiling lights' line in the glance (ExplorerOptions::light_centre_gain).
+  bool light_centring = false;
+  // --mouth-centring: move to a side branch's centre line before turning into it
+  // (ExplorerOptions::mouth_centre_min_m).
+  bool mouth_centring = false;
+
+  void Apply(eval::ExploreRunOptions& ro) const {
+    if (heading_filter) ro.explorer.filtered_axis_gain = 0.2;
+    ro.explorer.heading_filter_prior_std_deg = heading_prior_std_deg;
+    if (floor_edge_openings) ro.explorer.branch_line_tolerance_m = 0.12;
+    if (light_centring) ro.explorer.light_centre_gain = 0.35;
+    if (mouth_centring) ro.explorer.mouth_centre_min_m = 0.25;
+  }
+
+  void AddFlags(CLI::App* cmd, bool as_explore) {
+    auto text = [&](const char* full) -> std::string { return as_explore ? full : "As `squint explore` (off by default)"; };
+    cmd->add_flag("--heading-filter", heading_filter,
+                  text("The explorer's corridor axis follows the Perceiver's heading filter over time (off by default; docs/explore.md, session 10)"));
+    cmd->add_option("--heading-prior-std", heading_prior_std_deg,
+                    text("With --heading-filter: a new corridor's filter starts from the explorer's axis with this standard deviation, degrees (0: off, the default; docs/explore.md, session 11)"))
+        ->check(CLI::Range(0.0, 90.0));
+    cmd->add_flag("--floor-edge-openings", floor_edge_openings,
+                  text("Find side openings past a floor edge read beyond the wall line (off by default; docs/explore.md, session 11)"));
+    cmd->add_flag("--light-centring", light_centring,
+                  text("Centre on the ceiling lights' line in the glance instead of the side walls (off by default; docs/explore.md, session 11)"));
+    cmd->add_flag("--mouth-centring", mouth_centring,
+                  text("Move to a side branch's centre line, from its remembered walls, before turning into it (off by default; docs/explore.md, session 12)"));
+  }
+};
+
 struct ExploreCliOptions {
   std::string world = "default";
   double minutes = 45.0;
   std::uint64_t seed = 1;
   std::string out = "explore-out";
   int eval_start = -1;  // >= 0: start i of `squint eval explore --seed SEED` (its pose and noise seed)
-  bool heading_filter = false;
-  bool floor_edge_openings = false;
-  bool light_centring = false;
+  ExplorerVariants variants;
 };
-
-// --heading-filter: the explorer's axis follows the Perceiver's heading filter, which the runner
-// then runs beside the per-frame fusion (ExplorerOptions::filtered_axis_gain).
-void UseHeadingFilter(eval::ExploreRunOptions& ro) { ro.explorer.filtered_axis_gain = 0.2; }
-
-// --floor-edge-openings: side openings are found past a floor-material edge read beyond the wall
-// line (ExplorerOptions::branch_line_tolerance_m).
-void UseFloorEdgeOpenings(eval::ExploreRunOptions& ro) { ro.explorer.branch_line_tolerance_m = 0.12; }
-
-// --light-centring: centre on the ceiling lights' line in the glance (ExplorerOptions::light_centre_gain).
-void UseLightCentring(eval::ExploreRunOptions& ro) { ro.explorer.light_centre_gain = 0.35; }
 
 void RunExploreCommand(const ExploreCliOptions& opt) {
   const sim::World world = sim::LoadWorld(opt.world);
   eval::ExploreRunOptions run_opt;
   run_opt.minutes = opt.minutes;
   run_opt.seed = opt.seed;
-  if (opt.heading_filter) UseHeadingFilter(run_opt);
-  if (opt.floor_edge_openings) UseFloorEdgeOpenings(run_opt);
-  if (opt.light_centring) UseLightCentring(run_opt);
+  opt.variants.Apply(run_opt);
   if (opt.eval_start >= 0) {
     // The same start pose and noise seed as run `eval_start` of `squint eval explore --seed SEED`.
     run_opt.start = eval::SeededStarts(world, opt.eval_start + 1, opt.seed).back();
@@ -84,9 +110,7 @@ struct EvalExploreOptions {
   double minutes = 5.0;
   std::uint64_t seed = 1;
   std::string out = "explore-eval";
-  bool heading_filter = false;
-  bool floor_edge_openings = false;
-  bool light_centring = false;
+  ExplorerVariants variants;
 };
 
 std::string Fixed(double v, int d) {
@@ -116,9 +140,7 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
       ro.seed = opt.seed + static_cast<std::uint64_t>(i);
       ro.start = starts[i];
       ro.keep_trace = false;
-      if (opt.heading_filter) UseHeadingFilter(ro);
-      if (opt.floor_edge_openings) UseFloorEdgeOpenings(ro);
-      if (opt.light_centring) UseLightCentring(ro);
+      opt.variants.Apply(ro);
       if (std::string e = ro.Validate(); !e.empty()) throw Error("eval explore: " + e);
       const eval::ExploreRunResult run = eval::RunExplore(world, ro);
       const eval::ExploreSummary& s = run.summary;
@@ -221,12 +243,7 @@ void Register(CLI::App& root) {
   cmd->add_option("--eval-start", opt->eval_start,
                   "Run start I of `squint eval explore --seed SEED` (its start pose and noise seed) with full outputs")
       ->check(CLI::Range(0, 999));
-  cmd->add_flag("--heading-filter", opt->heading_filter,
-                "The explorer's corridor axis follows the Perceiver's heading filter over time (off by default; docs/explore.md, session 10)");
-  cmd->add_flag("--floor-edge-openings", opt->floor_edge_openings,
-                "Find side openings past a floor edge read beyond the wall line (off by default; docs/explore.md, session 11)");
-  cmd->add_flag("--light-centring", opt->light_centring,
-                "Centre on the ceiling lights' line in the glance instead of the side walls (off by default; docs/explore.md, session 11)");
+  opt->variants.AddFlags(cmd, true);
   cmd->callback([opt] { RunExploreCommand(*opt); });
 
   auto eopt = std::make_shared<EvalExploreOptions>();
@@ -237,9 +254,7 @@ void Register(CLI::App& root) {
   ex->add_option("--minutes", eopt->minutes, "Simulated minutes per start")->capture_default_str()->check(CLI::PositiveNumber);
   ex->add_option("--seed", eopt->seed, "Seed of the start poses and noise")->capture_default_str();
   ex->add_option("--out", eopt->out, "Output folder: table.md, runs.csv, map-WORLD.png")->capture_default_str();
-  ex->add_flag("--heading-filter", eopt->heading_filter, "As `squint explore --heading-filter`");
-  ex->add_flag("--floor-edge-openings", eopt->floor_edge_openings, "As `squint explore --floor-edge-openings`");
-  ex->add_flag("--light-centring", eopt->light_centring, "As `squint explore --light-centring`");
+  eopt->variants.AddFlags(ex, false);
   ex->callback([eopt] { RunEvalExplore(*eopt); });
 
   auto sopt = std::make_shared<SonarViewOptions>();

@@ -118,6 +118,12 @@ std::string ExplorerOptions::Validate() const {
   if (!(branch_line_band_m >= branch_line_tolerance_m && std::isfinite(branch_line_band_m)))
     return "branch_line_band_m must be >= branch_line_tolerance_m";
   if (branch_line_samples < 1) return "branch_line_samples must be at least 1";
+  if (!NonNegative(mouth_centre_min_m)) return "mouth_centre_min_m must be >= 0";
+  if (!(mouth_centre_max_m >= mouth_centre_min_m && std::isfinite(mouth_centre_max_m)))
+    return "mouth_centre_max_m must be >= mouth_centre_min_m";
+  if (!NonNegative(mouth_back_max_m)) return "mouth_back_max_m must be >= 0";
+  if (!(mouth_band_m > 0.25 && std::isfinite(mouth_band_m))) return "mouth_band_m must be above 0.25";
+  if (!Positive(mouth_speed_mps)) return "mouth_speed_mps must be positive";
   if (std::string e = memory.Validate(); !e.empty()) return "memory." + e;
   if (std::string e = map.Validate(); !e.empty()) return "map." + e;
   return {};
@@ -575,6 +581,7 @@ void Explorer::StartFollow(const Percept&) {
   heading_filter_prior_ = true;
   stall_since_s_ = -1.0;
   sides_[0] = sides_[1] = SideTrack{};
+  last_wall_m_[0] = last_wall_m_[1] = -1.0;
 }
 
 void Explorer::UpdateAxis(const Percept& p) {
@@ -865,6 +872,7 @@ bool Explorer::TrackSides(const Percept& p) {
   for (int k = 0; k < 2; ++k) {
     SideTrack& tr = sides_[k];
     if (wall[k] > 0.0) {
+      last_wall_m_[k] = wall[k];
       if (tr.wall_first_m < 0.0 || t - tr.wall_last_m > opt_.branch_wall_gap_m) {
         // A new run of wall (after a gap, or the first): an opening must follow a full run.
         tr = SideTrack{};
@@ -1093,16 +1101,85 @@ void Explorer::StartTurnTo(const Percept& p, int dir, int turn_deg, const std::s
   const int rel = (dir - dir_ + 4) & 3;
   rot_ = Rotation{WrapPi(axis_yaw_odom_ + rel * kPi / 2.0), 0};
   state_ = ExploreState::kTurn;
+  shift_m_ = 0.0;
   if (rel == 0) {  // straight on past a junction: not a turn
     Emit(ExploreEvent::Kind::kJunction, p, 0, "straight on: " + note);
     return;
   }
   ++turns_;
+  double along = 0.0;
+  if (opt_.mouth_centre_min_m > 0.0 && (rel == 1 || rel == 3) && MouthCentre(p, rel == 1 ? 0 : 1, &along) &&
+      std::abs(along) >= opt_.mouth_centre_min_m && along >= -opt_.mouth_back_max_m) {
+    shift_m_ = along;
+    shift_from_ = p.odom_T_robot.Translation();
+    shift_rot_ = Rotation{axis_yaw_odom_, 0};
+    shift_aligned_ = false;
+    shift_start_s_ = p.stamp_s;
+    Emit(ExploreEvent::Kind::kTurn, p, turn_deg, note + Format("; to the mouth's centre first: %+.2f m along", along));
+    return;
+  }
   Emit(ExploreEvent::Kind::kTurn, p, turn_deg, note);
+}
+
+bool Explorer::MouthCentre(const Percept& p, int side, double* along_m) const {
+  const double wall_m = last_wall_m_[side];
+  if (!(wall_m > 0.0)) return false;
+  // Where along the axis the remembered points lie inside the branch (beyond the corridor's wall
+  // line on that side): the branch's near and far walls. Farther than the memory's query radius
+  // too: the near wall of a branch wider than the corridor was seen from the corridor only far off.
+  const double reach = opt_.mouth_centre_max_m + 0.5 * opt_.branch_max_width_m;
+  const double l0 = wall_m + 0.25, l1 = wall_m + opt_.mouth_band_m;
+  std::vector<Eigen::Vector2d> points;
+  memory_.PointsInRect(Pose2{p.odom_T_robot.x, p.odom_T_robot.y, axis_yaw_odom_}, -reach, reach, side == 0 ? l0 : -l1,
+                       side == 0 ? l1 : -l0, p.stamp_s, &points);
+  std::vector<double> along;
+  along.reserve(points.size());
+  for (const Eigen::Vector2d& q : points) along.push_back(q.x());
+  // The near corner also where this side's last wall run ended (as TrackSides takes it): from the
+  // corridor the near wall of a branch wider than the corridor is seen only from far off, if at all.
+  const SideTrack& tr = sides_[side];
+  if (tr.wall_first_m >= 0.0) along.insert(along.end(), 2, tr.wall_last_m - opt_.side_window_m - travel_in_corridor_m_);
+  std::sort(along.begin(), along.end());
+  constexpr double kCluster = 0.3;
+  bool found = false;
+  double best = 0.0;
+  for (std::size_t i = 1; i + 2 < along.size(); ++i) {
+    const double width = along[i + 1] - along[i];
+    if (width < opt_.branch_min_width_m || width > opt_.branch_max_width_m) continue;
+    // Each side of the gap a wall (two points at least), not one stray point.
+    if (along[i] - along[i - 1] > kCluster || along[i + 2] - along[i + 1] > kCluster) continue;
+    const double centre = 0.5 * (along[i] + along[i + 1]);
+    if (!found || std::abs(centre) < std::abs(best)) best = centre;
+    found = true;
+  }
+  if (!found || std::abs(best) > opt_.mouth_centre_max_m) return false;
+  *along_m = best;
+  return true;
+}
+
+Command Explorer::ShiftStep(const Percept& p) {
+  Command cmd;
+  if (!shift_aligned_) {
+    if (!Rotate(p, shift_rot_, cmd)) return cmd;
+    shift_aligned_ = true;
+  }
+  const Eigen::Vector2d d(std::cos(shift_rot_.target_yaw), std::sin(shift_rot_.target_yaw));
+  const double left = shift_m_ - (p.odom_T_robot.Translation() - shift_from_).dot(d);
+  // Done, or held up (the sonar guard found the way along the axis blocked): turn from here.
+  const double limit_s = 4.0 + 3.0 * std::abs(shift_m_) / opt_.mouth_speed_mps;
+  if (std::abs(left) < 0.03 || left * shift_m_ < 0.0 || p.stamp_s - shift_start_s_ > limit_s) {
+    shift_m_ = 0.0;
+    return {};
+  }
+  cmd.v_mps = std::copysign(std::clamp(std::abs(left), 0.08, opt_.mouth_speed_mps), left);
+  cmd.omega_rps = std::clamp(opt_.heading_gain * WrapPi(shift_rot_.target_yaw - p.odom_T_robot.yaw), -opt_.max_omega_rps,
+                             opt_.max_omega_rps);
+  return cmd;
 }
 
 Command Explorer::TurnStep(const Percept& p) {
   Command cmd;
+  if (shift_m_ != 0.0) return ShiftStep(p);
   if (!Rotate(p, rot_, cmd)) return cmd;
   axis_yaw_odom_ = rot_.target_yaw;
   dir_ = turn_to_dir_;

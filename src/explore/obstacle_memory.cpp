@@ -133,6 +133,20 @@ int ObstacleMemory::ClearRect(const Pose2& frame, double s0, double s1, double l
   return n;
 }
 
+void ObstacleMemory::PointsInRect(const Pose2& frame, double s0, double s1, double l0, double l1, double now_s,
+                                  std::vector<Eigen::Vector2d>* out) const {
+  const Eigen::Vector2d o = frame.Translation();
+  const Eigen::Vector2d d(std::cos(frame.yaw), std::sin(frame.yaw));
+  for (const Cell& c : cells_) {
+    if (c.stamp_s < 0.0 || c.soft || now_s - c.stamp_s > options_.keep_seconds) continue;
+    const Eigen::Vector2d q = c.p - o;
+    const double s = q.dot(d);
+    const double l = d.x() * q.y() - d.y() * q.x();
+    if (s < s0 || s > s1 || l < l0 || l > l1) continue;
+    out->emplace_back(s, l);
+  }
+}
+
 bool ObstacleMemory::SeenFree(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double now_s) const {
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
   const double step = 0.5 * options_.cell_m;

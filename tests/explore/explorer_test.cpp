@@ -467,6 +467,38 @@ TEST(Explorer, SideBranchBehindAFloorEdgeIsFoundFromTheWallLine) {
   }
 }
 
+// An L corner into a branch wider than the corridor: a 2 m corridor along x ends at x = 25, and a
+// 3.6 m branch leaves it to the left (north) between x = 21.4 and x = 25, 11 m deep. The robot
+// stops about 1.1 m short of the end wall, 0.7 m past the branch's centre line (x = 23.2). With
+// mouth centring it first moves back to that line, and drives into the branch within 0.25 m of
+// it; without, it enters about 0.7 m off.
+TEST(Explorer, MouthCentringMovesToTheBranchCentreBeforeTurning) {
+  for (const double centring : {0.0, 0.25}) {
+    SCOPED_TRACE(centring);
+    ToyPlan world;
+    world.walls = {{-1, -1, 25, -1}, {-1, 1, 21.4, 1}, {-1, -1, -1, 1}, {25, -1, 25, 12}, {21.4, 1, 21.4, 12}, {21.4, 12, 25, 12}};
+    world.pose = {1.0, 0.0, 0.0};
+    ExplorerOptions o;
+    o.mouth_centre_min_m = centring;
+    Explorer explorer(o);
+    double x_in_branch = -1.0;
+    bool hit_wall = false;
+    for (int i = 0; i < 30 * 90 && x_in_branch < 0.0; ++i) {
+      world.Apply(explorer.Step(world.Perceive()));
+      if (world.pose.y > 2.5) x_in_branch = world.pose.x;
+      for (double a = -kPi; a < kPi; a += kPi / 18)
+        if (world.Ray(world.pose.x, world.pose.y, a) < 0.25) hit_wall = true;
+    }
+    EXPECT_FALSE(hit_wall);
+    ASSERT_GT(x_in_branch, 0.0) << "never entered the branch";
+    if (centring > 0.0) {
+      EXPECT_NEAR(x_in_branch, 23.2, 0.25);
+    } else {
+      EXPECT_GT(std::abs(x_in_branch - 23.2), 0.4);
+    }
+  }
+}
+
 // Without the side-branch detector (the paper's behaviour) the same T is passed: the robot only
 // decides at the corridor's end, and its first turn there is around (a dead end at x = 25).
 TEST(Explorer, WithoutBranchDetectionTheSideBranchIsPassed) {

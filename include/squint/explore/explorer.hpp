@@ -219,6 +219,21 @@ struct ExplorerOptions {
   double branch_line_tolerance_m = 0.0;
   double branch_line_band_m = 0.6;
   int branch_line_samples = 15;
+  // Mouth centring: before turning into a side branch the robot moves along the corridor to the
+  // branch's centre line. The branch's two walls are the remembered points from 0.25 m to
+  // mouth_band_m beyond the corridor's own wall line on that side (the last abeam wall distance
+  // there): the mouth is the gap between two of their clusters (at least 2 points within 0.3 m
+  // each), 1.2-4 m wide (branch_min_width_m .. branch_max_width_m), whose centre lies nearest the
+  // robot. A stop that is early by a metre (the far edge seen early, a false opening just before
+  // an L corner) otherwise turns the robot into the branch along its wall. The robot turns back to
+  // the axis and drives (forward, or backward up to mouth_back_max_m) when that centre is at least
+  // mouth_centre_min_m and at most mouth_centre_max_m away. 0 turns it off (the default;
+  // `squint explore --mouth-centring` sets 0.25; docs/explore.md, session 12).
+  double mouth_centre_min_m = 0.0;
+  double mouth_centre_max_m = 1.5;
+  double mouth_back_max_m = 0.8;
+  double mouth_band_m = 1.5;
+  double mouth_speed_mps = 0.25;
   ObstacleMemoryOptions memory;
   TopoMapOptions map;
 
@@ -326,6 +341,11 @@ class Explorer {
   // true when the robot stopped at a junction (state changed to kProbe).
   bool TrackSides(const Percept& p);
   bool OnOpening(const Percept& p, int side, double width_m);
+  // The side branch's centre line along the axis from the robot (metres, ahead positive), from the
+  // remembered walls of its mouth (mouth_centre_min_m); false when they do not show one.
+  bool MouthCentre(const Percept& p, int side, double* along_m) const;
+  // Before a turn into a side branch: back to the axis, then along it to the mouth's centre.
+  Command ShiftStep(const Percept& p);
   void StartProbe();
   double ReferenceEntropy() const;
   // The remembered walls' axis modulo 90 degrees (odometry frame), when axis_from_walls is on and
@@ -445,6 +465,14 @@ class Explorer {
   int n_probes_ = 0;
   std::vector<int> dead_end_reprobes_;  // per node: arrivals whose dead-end sides were looked at again
   int turn_to_dir_ = 0;
+  // Mouth centring (mouth_centre_min_m): the shift along the axis still to drive before the turn
+  // (0: none), from where, facing which way, and since when.
+  double shift_m_ = 0.0;
+  Eigen::Vector2d shift_from_ = Eigen::Vector2d::Zero();
+  Rotation shift_rot_;
+  bool shift_aligned_ = false;
+  double shift_start_s_ = 0.0;
+  double last_wall_m_[2] = {-1.0, -1.0};  // the last abeam wall distance per side in this corridor
 
   int turns_ = 0;
   int ends_ = 0;

@@ -97,6 +97,11 @@ class ObstacleMemory {
   // Removes the remembered points (not confirmed ones) inside the rectangle [s0, s1] × [l0, l1] of
   // the frame `frame` (s along its yaw, l to its left); returns how many. Gather again after it.
   int ClearRect(const Pose2& frame, double s0, double s1, double l0, double l1);
+  // The remembered boundary points (not soft ones, not older than keep_seconds at now_s) inside
+  // the rectangle [s0, s1] × [l0, l1] of `frame`, appended to *out as (s, l), whatever their
+  // distance from the robot (the grid's period bounds what can still be there).
+  void PointsInRect(const Pose2& frame, double s0, double s1, double l0, double l1, double now_s,
+                    std::vector<Eigen::Vector2d>* out) const;
 
  private:
   struct Cell {
