@@ -43,6 +43,9 @@ struct ExplorerVariants {
   // --mouth-centring: move to a side branch's centre line before turning into it
   // (ExplorerOptions::mouth_centre_min_m).
   bool mouth_centring = false;
+  // --light-heading: the lights' line's heading also moves the corridor axis
+  // (ExplorerOptions::light_axis_gain).
+  bool light_heading = false;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     if (heading_filter) ro.explorer.filtered_axis_gain = 0.2;
@@ -50,6 +53,7 @@ struct ExplorerVariants {
     if (floor_edge_openings) ro.explorer.branch_line_tolerance_m = 0.12;
     if (light_centring) ro.explorer.light_centre_gain = 0.35;
     if (mouth_centring) ro.explorer.mouth_centre_min_m = 0.25;
+    if (light_heading) ro.explorer.light_axis_gain = 0.05;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -65,6 +69,8 @@ struct ExplorerVariants {
                   text("Centre on the ceiling lights' line in the glance instead of the side walls (off by default; docs/explore.md, session 11)"));
     cmd->add_flag("--mouth-centring", mouth_centring,
                   text("Move to a side branch's centre line, from its remembered walls, before turning into it (off by default; docs/explore.md, session 12)"));
+    cmd->add_flag("--light-heading", light_heading,
+                  text("The ceiling lights' line's heading also steers the corridor axis (off by default; docs/explore.md, session 12)"));
   }
 };
 

@@ -206,7 +206,7 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
     if (perception.heading.filter.enabled) p.heading_filtered_deg = r.heading_deg;
     p.dist_end_m = r.dist_end_m;
     p.centre_heading_deg = r.processed ? CentreCue(r) : std::nullopt;
-    if (explorer_options.light_centre_gain > 0.0) {
+    if (explorer_options.light_centre_gain > 0.0 || explorer_options.light_axis_gain > 0.0) {
       const double cpu2 = ThreadCpuSeconds();
       const explore::LightLine light =
           explore::FindLightLine(GrayView{glance.pixels.data(), corridor::kGlanceWidth, corridor::kGlanceHeight, corridor::kGlanceWidth},

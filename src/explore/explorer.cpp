@@ -118,6 +118,8 @@ std::string ExplorerOptions::Validate() const {
   if (!(branch_line_band_m >= branch_line_tolerance_m && std::isfinite(branch_line_band_m)))
     return "branch_line_band_m must be >= branch_line_tolerance_m";
   if (branch_line_samples < 1) return "branch_line_samples must be at least 1";
+  if (!NonNegative(light_axis_gain) || light_axis_gain > 1.0) return "light_axis_gain must be in [0, 1]";
+  if (!Positive(light_axis_gate_deg)) return "light_axis_gate_deg must be positive";
   if (!NonNegative(mouth_centre_min_m)) return "mouth_centre_min_m must be >= 0";
   if (!(mouth_centre_max_m >= mouth_centre_min_m && std::isfinite(mouth_centre_max_m)))
     return "mouth_centre_max_m must be >= mouth_centre_min_m";
@@ -574,6 +576,7 @@ void Explorer::StartFollow(const Percept&) {
   lateral_valid_ = false;
   light_readings_.clear();
   light_confirmed_s_ = -1.0;
+  light_axis_s_ = -1.0;
   ref_entropy_.clear();
   ref_next_ = 0;
   gate_reset_ = true;
@@ -613,6 +616,8 @@ void Explorer::UpdateAxis(const Percept& p) {
     return;
   }
   outlier_axes_.clear();
+  // While the lights' line steers the axis (light_axis_gain), the glance's inliers do not.
+  if (opt_.light_axis_gain > 0.0 && light_axis_s_ >= 0.0 && p.stamp_s - light_axis_s_ <= opt_.light_hold_s) return;
   // With the heading filter, an inlier moves the axis toward the filtered heading's axis.
   double gain = opt_.axis_gain;
   double step = innovation;
@@ -671,6 +676,14 @@ bool Explorer::LightLateral(double stamp_s, const Pose2& odom_T_robot, double* l
 
 Command Explorer::FollowStep(const Percept& p) {
   UpdateAxis(p);
+  if (opt_.light_axis_gain > 0.0 && p.light_heading_deg) {
+    // The axis the lights' line implies (odometry yaw − its heading), near the one held.
+    const double diff = DegToRad(HeadingEstimateDeg() - *p.light_heading_deg);
+    if (std::abs(diff) <= DegToRad(opt_.light_axis_gate_deg)) {
+      RotateAxis(opt_.light_axis_gain * diff);
+      light_axis_s_ = p.stamp_s;
+    }
+  }
   UpdateLight(p);
   double wall_axis = 0.0;
   if (p.sonar != nullptr && travel_in_corridor_m_ > 1.0 && WallAxis(&wall_axis)) {

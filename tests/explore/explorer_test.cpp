@@ -34,6 +34,7 @@ struct ToyCorridor {
   double per_frame_bias_deg = 0.0;
   double bias_from_x = 1.0;
   bool filtered = false;
+  bool lights = false;  // every frame carries the lights' line's heading (the truth)
 
   Pose2 pose;        // true pose
   Pose2 odom;        // odometry
@@ -59,6 +60,7 @@ struct ToyCorridor {
     }
     p.glance_entropy_nats = (open ? kOpenEntropy : kWallEntropy) - 0.2 * std::abs(heading_deg) / 45.0;
     p.processed = frame % process_every == 0;
+    if (lights) p.light_heading_deg = heading_deg;
     if (p.processed) {
       p.heading_deg = heading_deg + (pose.x >= bias_from_x ? per_frame_bias_deg : 0.0);
       if (filtered) p.heading_filtered_deg = heading_deg;
@@ -227,12 +229,15 @@ TEST(Explorer, HeadingHeldThroughGatedFramesDespiteOdometryDrift) {
 
 // The worst true yaw (degrees) between x = 4 and x = 8 while following without centring, the
 // per-frame heading biased by 8° from x = 1.
-double WorstYawWithBiasedPerFrameHeading(bool filtered, double filtered_axis_gain) {
+double WorstYawWithBiasedPerFrameHeading(bool filtered, double filtered_axis_gain, bool lights = false,
+                                         double light_axis_gain = 0.0) {
   ToyCorridor world;
   world.per_frame_bias_deg = 8.0;
   world.filtered = filtered;
+  world.lights = lights;
   ExplorerOptions o;
   o.filtered_axis_gain = filtered_axis_gain;
+  o.light_axis_gain = light_axis_gain;
   o.centre_gain = 0.0;  // no centring: the yaw shows the axis alone
   Explorer explorer(o);
   while (explorer.State() != ExploreState::kFollow) world.Apply(explorer.Step(world.Perceive()));
@@ -252,6 +257,13 @@ TEST(Explorer, AxisFollowsTheFilteredHeadingWhenItIsGivenAndEnabled) {
   EXPECT_GT(WorstYawWithBiasedPerFrameHeading(true, 0.0), 5.0);
   // With it, the axis follows the filter and the robot stays on the axis.
   EXPECT_LT(WorstYawWithBiasedPerFrameHeading(true, 0.2), 1.0);
+}
+
+TEST(Explorer, AxisFollowsTheLightsLineHeadingWhenEnabled) {
+  // The lights' line given but not used: the biased per-frame heading turns the robot off.
+  EXPECT_GT(WorstYawWithBiasedPerFrameHeading(false, 0.0, true, 0.0), 5.0);
+  // Used: it holds the axis and the glance's biased inliers are left out.
+  EXPECT_LT(WorstYawWithBiasedPerFrameHeading(false, 0.0, true, 0.05), 1.0);
 }
 
 TEST(Explorer, HeadingFilterResetAtEveryNewCorridor) {

@@ -163,6 +163,16 @@ struct ExplorerOptions {
   int light_confirm = 3;
   double light_agree_m = 0.15;
   double light_hold_s = 1.0;
+  // The lights' line's heading (Percept::light_heading_deg, when a line was found in the frame)
+  // also moves the corridor axis while following: by light_axis_gain of the difference on each
+  // frame whose light heading lies within light_axis_gate_deg of the heading the explorer holds
+  // (a line of a crossing corridor's lights, or of one row of two side rows, seldom does); within
+  // light_hold_s of such a frame the glance's inlier headings leave the axis alone. On
+  // rendered centre-row glances its heading is right to 0.7 deg (p90) where the glance's fused
+  // heading scatters by degrees (`default`'s carpeted middle corridor). 0 turns it off (the
+  // default; `squint explore --light-heading` sets 0.05; docs/explore.md, session 12).
+  double light_axis_gain = 0.0;
+  double light_axis_gate_deg = 10.0;
   double rescan_yaw_deg = 12.0;       // no forward motion until a scan was taken at the heading
   // Following: after this travel in the corridor the latest scan's blocked-near columns block only
   // the narrow sector at the blind range, and those along which the floor in the blind zone was
@@ -402,6 +412,7 @@ class Explorer {
   Eigen::Vector2d light_ref_ = Eigen::Vector2d::Zero();
   double light_across_m_ = 0.0;
   double light_confirmed_s_ = -1.0;
+  double light_axis_s_ = -1.0;  // when the lights' line last moved the axis (light_axis_gain)
   void UpdateLight(const Percept& p);
 
   // Follow.
