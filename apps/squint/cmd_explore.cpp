@@ -46,6 +46,9 @@ struct ExplorerVariants {
   // --light-heading: the lights' line's heading also moves the corridor axis
   // (ExplorerOptions::light_axis_gain).
   bool light_heading = false;
+  // --sonar-open-entropy: a side open by the sonar's free travel needs a look whose entropy is not
+  // a wall's (ExplorerOptions::sonar_open_min_entropy_ratio).
+  bool sonar_open_entropy = false;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     if (heading_filter) ro.explorer.filtered_axis_gain = 0.2;
@@ -54,6 +57,7 @@ struct ExplorerVariants {
     if (light_centring) ro.explorer.light_centre_gain = 0.35;
     if (mouth_centring) ro.explorer.mouth_centre_min_m = 0.25;
     if (light_heading) ro.explorer.light_axis_gain = 0.05;
+    if (sonar_open_entropy) ro.explorer.sonar_open_min_entropy_ratio = 0.7;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -71,6 +75,8 @@ struct ExplorerVariants {
                   text("Move to a side branch's centre line, from its remembered walls, before turning into it (off by default; docs/explore.md, session 12)"));
     cmd->add_flag("--light-heading", light_heading,
                   text("The ceiling lights' line's heading also steers the corridor axis (off by default; docs/explore.md, session 12)"));
+    cmd->add_flag("--sonar-open-entropy", sonar_open_entropy,
+                  text("A side free by the sonar is open only if its glance entropy is not a wall's, 0.7 of the corridor's (off by default; docs/explore.md, session 12)"));
   }
 };
 

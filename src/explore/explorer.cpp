@@ -85,6 +85,7 @@ std::string ExplorerOptions::Validate() const {
   if (!Positive(sonar_end_free_m)) return "sonar_end_free_m must be positive";
   if (!Positive(sonar_end_gap_m)) return "sonar_end_gap_m must be positive";
   if (!Positive(sonar_open_free_m)) return "sonar_open_free_m must be positive";
+  if (!(sonar_open_min_entropy_ratio >= 0.0 && sonar_open_min_entropy_ratio <= 2.0)) return "sonar_open_min_entropy_ratio must be in [0, 2]";
   if (!NonNegative(sonar_centre_gain)) return "sonar_centre_gain must be >= 0";
   if (!Positive(sonar_centre_max_lateral_m)) return "sonar_centre_max_lateral_m must be positive";
   if (!NonNegative(light_centre_gain)) return "light_centre_gain must be >= 0";
@@ -1065,8 +1066,9 @@ Command Explorer::ProbeStep(const Percept& p) {
   // memory showed an opening while following is also open when the entropy rule says so (from
   // the mouth of a branch the sonar's blind range often holds a wall corner).
   const bool open_by_entropy = h >= opt_.open_entropy_ratio * last_ref_entropy_;
-  const bool open = sonar_seen_ ? side_free_m_[probe_phase_] >= opt_.sonar_open_free_m ||
-                                      ((side_dir == gap_side_dir_ || side_dir == gap_other_dir_) && open_by_entropy)
+  const bool open_by_sonar = side_free_m_[probe_phase_] >= opt_.sonar_open_free_m &&
+                             h >= opt_.sonar_open_min_entropy_ratio * last_ref_entropy_;
+  const bool open = sonar_seen_ ? open_by_sonar || ((side_dir == gap_side_dir_ || side_dir == gap_other_dir_) && open_by_entropy)
                                 : open_by_entropy;
   map_.SetBranch(node_, side_dir, open ? Branch::kOpen : Branch::kWall);
   ++n_probes_;

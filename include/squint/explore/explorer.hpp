@@ -148,7 +148,14 @@ struct ExplorerOptions {
   double gap_side_wall_max_m = 0.0;
   double sonar_end_free_m = 0.85;     // end of corridor: free travel along the axis below this...
   double sonar_end_gap_m = 1.5;       // ...and no candidate heading with this much free travel
-  double sonar_open_free_m = 2.0;     // probing: a side is open when it is free this far
+  double sonar_open_free_m = 2.0;     // probing: a side is open when it is free this far...
+  // ...and its look's glance entropy is at least this fraction of the reference entropy: a wall
+  // inside the sonar's blind range whose base was read as floor from farther back (a brick wall's
+  // mortar) shows free travel but a wall's entropy (0.60 and 0.65 of the reference where that
+  // sent the robot into the west wall of `default`; every side truly open by the sonar in 16
+  // `default` runs had 0.80 or more). 0 turns it off (the default; `squint explore
+  // --sonar-open-entropy` sets 0.7; docs/explore.md, session 12).
+  double sonar_open_min_entropy_ratio = 0.0;
   double sonar_centre_gain = 0.35;    // rad of target heading per metre of lateral offset
   double sonar_centre_max_lateral_m = 1.8;  // side points farther than this do not centre
   // Centring on the ceiling lights' line (Percept::light_lateral_m, paper §4.1.5's remark that
