@@ -511,6 +511,30 @@ TEST(Explorer, MouthCentringMovesToTheBranchCentreBeforeTurning) {
   }
 }
 
+// An L corner whose right side is a wall the sonar cannot see (its columns read unknown, so the
+// memory holds nothing there and the free travel to that side is full), while the glance's
+// entropy looking at it is a wall's. Without sonar_open_min_entropy_ratio the right side is called
+// open; with it, a wall. The left branch is open either way.
+TEST(Explorer, SideFreeBySonarButAWallByEntropyIsAWall) {
+  for (const double ratio : {0.0, 0.7}) {
+    SCOPED_TRACE(ratio);
+    ToyPlan world;
+    world.walls = {{-1, -1, 25, -1, false}, {-1, 1, 21.5, 1}, {-1, -1, -1, 1}, {25, -1, 25, 12}, {21.5, 1, 21.5, 12}, {21.5, 12, 25, 12}};
+    world.pose = {1.0, 0.0, 0.0};
+    ExplorerOptions o;
+    o.sonar_open_min_entropy_ratio = ratio;
+    Explorer explorer(o);
+    for (int i = 0; i < 30 * 90 && explorer.Turns() == 0; ++i) world.Apply(explorer.Step(world.Perceive()));
+    ASSERT_EQ(explorer.Turns(), 1);
+    const TopoMap& map = explorer.Map();
+    const int j = map.NodeNear({explorer.MapPose().x, explorer.MapPose().y});
+    ASSERT_GE(j, 0);
+    const TopoNode& node = map.Nodes()[static_cast<std::size_t>(j)];
+    EXPECT_EQ(node.branch[3], ratio > 0.0 ? Branch::kWall : Branch::kOpen);  // south: the unseen wall
+    EXPECT_EQ(node.branch[1], Branch::kOpen);                               // north: the branch
+  }
+}
+
 // Without the side-branch detector (the paper's behaviour) the same T is passed: the robot only
 // decides at the corridor's end, and its first turn there is around (a dead end at x = 25).
 TEST(Explorer, WithoutBranchDetectionTheSideBranchIsPassed) {
