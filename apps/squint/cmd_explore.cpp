@@ -27,56 +27,57 @@
 namespace squint::app {
 namespace {
 
-// The explorer's optional behaviours, the same flags on `explore` and `eval explore`.
+// The explorer's switchable behaviours, the same flags on `explore` and `eval explore`. Each is
+// on by default since session 12 except --light-heading (docs/explore.md); `--no-X` turns one
+// off, and `--X` (the session 10/11 spelling, when they were off by default) is still accepted.
 struct ExplorerVariants {
-  // --heading-filter: the explorer's axis follows the Perceiver's heading filter, which the runner
-  // then runs beside the per-frame fusion (ExplorerOptions::filtered_axis_gain).
-  bool heading_filter = false;
-  // --heading-prior-std DEG: with the filter, a new corridor's filter starts from the explorer's
-  // axis with this standard deviation (ExplorerOptions::heading_filter_prior_std_deg).
-  double heading_prior_std_deg = 0.0;
-  // --floor-edge-openings: side openings are found past a floor-material edge read beyond the wall
-  // line (ExplorerOptions::branch_line_tolerance_m).
-  bool floor_edge_openings = false;
-  // --light-centring: centre on the ceiling lights' line in the glance (ExplorerOptions::light_centre_gain).
-  bool light_centring = false;
-  // --mouth-centring: move to a side branch's centre line before turning into it
-  // (ExplorerOptions::mouth_centre_min_m).
-  bool mouth_centring = false;
-  // --light-heading: the lights' line's heading also moves the corridor axis
-  // (ExplorerOptions::light_axis_gain).
+  // The explorer's axis follows the Perceiver's heading filter, which the runner then runs beside
+  // the per-frame fusion (ExplorerOptions::filtered_axis_gain).
+  bool heading_filter = true;
+  // With the filter, a new corridor's filter starts from the explorer's axis with this standard
+  // deviation (ExplorerOptions::heading_filter_prior_std_deg; 0: no prior).
+  double heading_prior_std_deg = 3.0;
+  // Side openings are found past a floor-material edge read beyond the wall line
+  // (ExplorerOptions::branch_line_tolerance_m).
+  bool floor_edge_openings = true;
+  // Centre on the ceiling lights' line in the glance (ExplorerOptions::light_centre_gain).
+  bool light_centring = true;
+  // Move to a side branch's centre line before turning into it (ExplorerOptions::mouth_centre_min_m).
+  bool mouth_centring = true;
+  // A side free by the sonar needs a look whose entropy is not a wall's
+  // (ExplorerOptions::sonar_open_min_entropy_ratio).
+  bool sonar_open_entropy = true;
+  // The lights' line's heading also moves the corridor axis (ExplorerOptions::light_axis_gain; off).
   bool light_heading = false;
-  // --sonar-open-entropy: a side open by the sonar's free travel needs a look whose entropy is not
-  // a wall's (ExplorerOptions::sonar_open_min_entropy_ratio).
-  bool sonar_open_entropy = false;
 
   void Apply(eval::ExploreRunOptions& ro) const {
-    if (heading_filter) ro.explorer.filtered_axis_gain = 0.2;
+    ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
     ro.explorer.heading_filter_prior_std_deg = heading_prior_std_deg;
-    if (floor_edge_openings) ro.explorer.branch_line_tolerance_m = 0.12;
-    if (light_centring) ro.explorer.light_centre_gain = 0.35;
-    if (mouth_centring) ro.explorer.mouth_centre_min_m = 0.25;
-    if (light_heading) ro.explorer.light_axis_gain = 0.05;
-    if (sonar_open_entropy) ro.explorer.sonar_open_min_entropy_ratio = 0.7;
+    ro.explorer.branch_line_tolerance_m = floor_edge_openings ? 0.12 : 0.0;
+    ro.explorer.light_centre_gain = light_centring ? 0.35 : 0.0;
+    ro.explorer.mouth_centre_min_m = mouth_centring ? 0.25 : 0.0;
+    ro.explorer.sonar_open_min_entropy_ratio = sonar_open_entropy ? 0.7 : 0.0;
+    ro.explorer.light_axis_gain = light_heading ? 0.05 : 0.0;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
-    auto text = [&](const char* full) -> std::string { return as_explore ? full : "As `squint explore` (off by default)"; };
-    cmd->add_flag("--heading-filter", heading_filter,
-                  text("The explorer's corridor axis follows the Perceiver's heading filter over time (off by default; docs/explore.md, session 10)"));
+    auto text = [&](const char* full) -> std::string { return as_explore ? full : "As `squint explore`"; };
+    cmd->add_flag("--heading-filter,!--no-heading-filter", heading_filter,
+                  text("The corridor axis follows the Perceiver's heading filter over time (on by default; docs/explore.md, sessions 10 and 12)"));
     cmd->add_option("--heading-prior-std", heading_prior_std_deg,
-                    text("With --heading-filter: a new corridor's filter starts from the explorer's axis with this standard deviation, degrees (0: off, the default; docs/explore.md, session 11)"))
+                    text("With the heading filter: a new corridor's filter starts from the explorer's axis with this standard deviation, degrees (0: no prior)"))
+        ->capture_default_str()
         ->check(CLI::Range(0.0, 90.0));
-    cmd->add_flag("--floor-edge-openings", floor_edge_openings,
-                  text("Find side openings past a floor edge read beyond the wall line (off by default; docs/explore.md, session 11)"));
-    cmd->add_flag("--light-centring", light_centring,
-                  text("Centre on the ceiling lights' line in the glance instead of the side walls (off by default; docs/explore.md, session 11)"));
-    cmd->add_flag("--mouth-centring", mouth_centring,
-                  text("Move to a side branch's centre line, from its remembered walls, before turning into it (off by default; docs/explore.md, session 12)"));
-    cmd->add_flag("--light-heading", light_heading,
+    cmd->add_flag("--floor-edge-openings,!--no-floor-edge-openings", floor_edge_openings,
+                  text("Find side openings past a floor edge read beyond the wall line (on by default; docs/explore.md, session 11)"));
+    cmd->add_flag("--light-centring,!--no-light-centring", light_centring,
+                  text("Centre on the ceiling lights' line in the glance where it is seen, else on the side walls (on by default; docs/explore.md, session 11)"));
+    cmd->add_flag("--mouth-centring,!--no-mouth-centring", mouth_centring,
+                  text("Move to a side branch's centre line, from its remembered walls, before turning into it (on by default; docs/explore.md, session 12)"));
+    cmd->add_flag("--sonar-open-entropy,!--no-sonar-open-entropy", sonar_open_entropy,
+                  text("A side free by the sonar is open only if its glance entropy is not a wall's, 0.7 of the corridor's (on by default; docs/explore.md, session 12)"));
+    cmd->add_flag("--light-heading,!--no-light-heading", light_heading,
                   text("The ceiling lights' line's heading also steers the corridor axis (off by default; docs/explore.md, session 12)"));
-    cmd->add_flag("--sonar-open-entropy", sonar_open_entropy,
-                  text("A side free by the sonar is open only if its glance entropy is not a wall's, 0.7 of the corridor's (off by default; docs/explore.md, session 12)"));
   }
 };
 

@@ -90,15 +90,15 @@ struct ExplorerOptions {
   // an inlier frame (per-frame heading within axis_outlier_deg) moves the axis by this gain toward
   // the filtered heading's axis instead of by axis_gain toward the per-frame one. Outliers and
   // re-acquisition still use the per-frame heading, and TakeHeadingFilterReset() asks the caller
-  // to restart the filter wherever the axis it is relative to changes. 0: off (the default;
-  // `squint explore --heading-filter` sets 0.2; docs/explore.md, session 10).
-  double filtered_axis_gain = 0.0;
+  // to restart the filter wherever the axis it is relative to changes. 0: off. 0.2 since session
+  // 12 (an option since session 10; `squint explore --no-heading-filter` sets 0; docs/explore.md).
+  double filtered_axis_gain = 0.2;
   // With the filter: a new corridor's filter starts from the heading the explorer's own axis
   // implies (odometry yaw − axis: exact after a turn by odometry from a good axis) with this
   // standard deviation, instead of from the next frame's estimate (a mouth's first views can be
-  // 10° off). After a re-acquisition it starts from the next frame. 0: never a prior (the default;
-  // not yet measured on the seeded starts, docs/explore.md, session 11).
-  double heading_filter_prior_std_deg = 0.0;
+  // 10° off). After a re-acquisition it starts from the next frame. 0: never a prior. 3 since
+  // session 12 (`squint explore --heading-prior-std`; docs/explore.md, sessions 11 and 12).
+  double heading_filter_prior_std_deg = 3.0;
   // Alignment in place after the scan: take the median fused heading of align_frames fully
   // processed frames, rotate by it, repeat until below align_done_deg (at most align_rounds).
   int align_frames = 7;
@@ -153,18 +153,18 @@ struct ExplorerOptions {
   // inside the sonar's blind range whose base was read as floor from farther back (a brick wall's
   // mortar) shows free travel but a wall's entropy (0.60 and 0.65 of the reference where that
   // sent the robot into the west wall of `default`; every side truly open by the sonar in 16
-  // `default` runs had 0.80 or more). 0 turns it off (the default; `squint explore
-  // --sonar-open-entropy` sets 0.7; docs/explore.md, session 12).
-  double sonar_open_min_entropy_ratio = 0.0;
+  // `default` runs had 0.80 or more). 0 turns it off (`squint explore --no-sonar-open-entropy`);
+  // 0.7 since session 12 (docs/explore.md).
+  double sonar_open_min_entropy_ratio = 0.7;
   double sonar_centre_gain = 0.35;    // rad of target heading per metre of lateral offset
   double sonar_centre_max_lateral_m = 1.8;  // side points farther than this do not centre
   // Centring on the ceiling lights' line (Percept::light_lateral_m, paper §4.1.5's remark that
   // lights move with translation) in place of the sonar's side walls, at this gain (rad of target
-  // heading per metre; 0: off, the default; `squint explore --light-centring` sets 0.35). A reading
+  // heading per metre; 0: off, `squint explore --no-light-centring`; 0.35 since session 12). A reading
   // counts when its heading is within light_heading_gate_deg of the explorer's own and its offset
   // within light_max_lateral_m; the offset is used once light_confirm readings in a row agree
   // within light_agree_m (in the corridor frame, by odometry), and for light_hold_s after the last.
-  double light_centre_gain = 0.0;
+  double light_centre_gain = 0.35;
   double light_heading_gate_deg = 3.0;
   double light_max_lateral_m = 0.9;
   int light_confirm = 3;
@@ -231,9 +231,10 @@ struct ExplorerOptions {
   // 0.2 m beyond the wall line: `default`'s carpeted middle corridor), so it neither continues the
   // run nor closes the opening's far edge, and the free-across test ignores what lies from
   // branch_line_tolerance_m to branch_line_band_m beyond the line; once the robot turns into such
-  // an opening, that band is cleared from the memory until it has crossed it. 0 turns it off (the
-  // default; `squint explore --floor-edge-openings` sets 0.12; docs/explore.md, session 11).
-  double branch_line_tolerance_m = 0.0;
+  // an opening, that band is cleared from the memory until it has crossed it. 0 turns it off
+  // (`squint explore --no-floor-edge-openings`); 0.12 since session 12 (an option since session 11;
+  // docs/explore.md).
+  double branch_line_tolerance_m = 0.12;
   double branch_line_band_m = 0.6;
   int branch_line_samples = 15;
   // Mouth centring: before turning into a side branch the robot moves along the corridor to the
@@ -244,9 +245,9 @@ struct ExplorerOptions {
   // robot. A stop that is early by a metre (the far edge seen early, a false opening just before
   // an L corner) otherwise turns the robot into the branch along its wall. The robot turns back to
   // the axis and drives (forward, or backward up to mouth_back_max_m) when that centre is at least
-  // mouth_centre_min_m and at most mouth_centre_max_m away. 0 turns it off (the default;
-  // `squint explore --mouth-centring` sets 0.25; docs/explore.md, session 12).
-  double mouth_centre_min_m = 0.0;
+  // mouth_centre_min_m and at most mouth_centre_max_m away. 0 turns it off (`squint explore
+  // --no-mouth-centring`); 0.25 since session 12 (docs/explore.md).
+  double mouth_centre_min_m = 0.25;
   double mouth_centre_max_m = 1.5;
   double mouth_back_max_m = 0.8;
   double mouth_band_m = 1.5;
