@@ -1179,14 +1179,14 @@ Command Explorer::ShiftStep(const Percept& p) {
     shift_aligned_ = true;
   }
   const Eigen::Vector2d d(std::cos(shift_rot_.target_yaw), std::sin(shift_rot_.target_yaw));
-  const double left = shift_m_ - (p.odom_T_robot.Translation() - shift_from_).dot(d);
+  const double remaining = shift_m_ - (p.odom_T_robot.Translation() - shift_from_).dot(d);
   // Done, or held up (the sonar guard found the way along the axis blocked): turn from here.
   const double limit_s = 4.0 + 3.0 * std::abs(shift_m_) / opt_.mouth_speed_mps;
-  if (std::abs(left) < 0.03 || left * shift_m_ < 0.0 || p.stamp_s - shift_start_s_ > limit_s) {
+  if (std::abs(remaining) < 0.03 || remaining * shift_m_ < 0.0 || p.stamp_s - shift_start_s_ > limit_s) {
     shift_m_ = 0.0;
     return {};
   }
-  cmd.v_mps = std::copysign(std::clamp(std::abs(left), 0.08, opt_.mouth_speed_mps), left);
+  cmd.v_mps = std::copysign(std::clamp(std::abs(remaining), 0.08, opt_.mouth_speed_mps), remaining);
   cmd.omega_rps = std::clamp(opt_.heading_gain * WrapPi(shift_rot_.target_yaw - p.odom_T_robot.yaw), -opt_.max_omega_rps,
                              opt_.max_omega_rps);
   return cmd;
