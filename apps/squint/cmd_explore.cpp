@@ -49,7 +49,6 @@ struct ExplorerVariants {
   bool sonar_open_entropy = true;
   // The lights' line's heading also moves the corridor axis (ExplorerOptions::light_axis_gain; off).
   bool light_heading = false;
-
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
     ro.explorer.heading_filter_prior_std_deg = heading_prior_std_deg;
@@ -132,6 +131,9 @@ std::string Fixed(double v, int d) {
   return b;
 }
 
+// A CSV cell: empty for NaN.
+std::string Cell(double v, int d) { return std::isfinite(v) ? Fixed(v, d) : std::string(); }
+
 void RunEvalExplore(const EvalExploreOptions& opt) {
   std::vector<std::string> names = opt.worlds;
   if (names.empty()) names = sim::BuiltinWorldNames();
@@ -143,8 +145,14 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
   std::string table =
       "| world | start | x, y, yaw | minutes | distance m | coverage | ends | turns | collisions | outcome |\n"
       "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
-  std::string csv = "world,start,x_m,y_m,yaw_deg,sim_seconds,distance_m,coverage,ends_detected,turns,collisions,proceeded\n";
+  // The last four columns (added after `proceeded`; empty when nothing was measured) are against
+  // ground truth: see ExploreSummary's setoff_* and axis_error_*.
+  std::string csv =
+      "world,start,x_m,y_m,yaw_deg,sim_seconds,distance_m,coverage,ends_detected,turns,collisions,proceeded,"
+      "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg\n";
   int total_collisions = 0, runs = 0, clean = 0;
+  int off_axis_runs = 0, setoff_off = 0;  // runs with following frames; set-offs more than 10° off the axis
+  double off_axis_sum = 0.0;
   for (const sim::World& world : worlds) {
     const std::vector<Pose2> starts = eval::SeededStarts(world, opt.starts, opt.seed);
     for (int i = 0; i < static_cast<int>(starts.size()); ++i) {
@@ -166,7 +174,14 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
       csv += world.name + "," + std::to_string(i) + "," + Fixed(starts[i].x, 3) + "," + Fixed(starts[i].y, 3) + "," +
              Fixed(RadToDeg(starts[i].yaw), 2) + "," + Fixed(s.sim_seconds, 1) + "," + Fixed(s.distance_m, 2) + "," +
              Fixed(s.coverage, 4) + "," + std::to_string(s.ends_detected) + "," + std::to_string(s.turns) + "," +
-             std::to_string(s.collisions) + "," + (s.proceeded ? "1" : "0") + "\n";
+             std::to_string(s.collisions) + "," + (s.proceeded ? "1" : "0") + "," + Cell(s.setoff_seconds, 2) + "," +
+             Cell(s.setoff_axis_error_deg, 2) + "," + Cell(s.axis_error_p90_deg, 2) + "," + Cell(s.axis_error_over_10deg, 4) +
+             "\n";
+      if (std::isfinite(s.axis_error_over_10deg)) {
+        off_axis_sum += s.axis_error_over_10deg;
+        ++off_axis_runs;
+      }
+      if (std::isfinite(s.setoff_axis_error_deg) && std::abs(s.setoff_axis_error_deg) > 10.0) ++setoff_off;
       total_collisions += s.collisions;
       ++runs;
       if (s.collisions == 0) ++clean;
@@ -176,7 +191,11 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
   }
   bar.Finish();
   const std::string footer = "\n" + std::to_string(clean) + " of " + std::to_string(runs) +
-                             " runs without collision (" + std::to_string(total_collisions) + " collisions in all)\n";
+                             " runs without collision (" + std::to_string(total_collisions) + " collisions in all)\n" +
+                             "axis (against ground truth): " + std::to_string(setoff_off) +
+                             " set-offs more than 10 deg off; following, " +
+                             Fixed(off_axis_runs > 0 ? 100.0 * off_axis_sum / off_axis_runs : 0.0, 1) +
+                             "% of the frames more than 10 deg off (mean over runs)\n";
   io::WriteFileAtomically(staged.Path() / "table.md", table + footer);
   io::WriteFileAtomically(staged.Path() / "runs.csv", csv);
   staged.Commit();

@@ -130,6 +130,13 @@ std::string SummaryJson(const ExploreSummary& s) {
   j["wall_seconds"] = s.wall_seconds;
   j["proceeded"] = s.proceeded;
   j["outcome"] = s.outcome;
+  // Added after the other keys (null when there was nothing to measure): the start-up axis and
+  // the axis while following, against ground truth.
+  auto num = [](double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
+  j["setoff_seconds"] = num(s.setoff_seconds);
+  j["setoff_axis_error_deg"] = num(s.setoff_axis_error_deg);
+  j["axis_error_p90_deg"] = num(s.axis_error_p90_deg);
+  j["axis_error_over_10deg"] = num(s.axis_error_over_10deg);
   return j.dump(2) + "\n";
 }
 

@@ -6,7 +6,9 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <optional>
 #include <random>
+#include <vector>
 
 #include "squint/core/angles.hpp"
 #include "squint/core/error.hpp"
@@ -177,6 +179,8 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   double perception_cpu = 0.0;
   long processed_frames = 0;
   std::size_t events_seen = 0;
+  std::vector<double> axis_errors;  // |axis error| (degrees) on the frames spent following
+  axis_errors.reserve(static_cast<std::size_t>(frames));
   const long progress_every = std::max(1L, frames / 200);
 
   for (long f = 0; f < frames; ++f) {
@@ -273,8 +277,25 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
 
     const sim::StepResult step = robot.Step(cmd.v_mps, cmd.omega_rps);
 
-    for (; events_seen < explorer.Events().size(); ++events_seen)
+    bool first_setoff = false;
+    for (; events_seen < explorer.Events().size(); ++events_seen) {
       out.marks.push_back(ExploreMark{explorer.Events()[events_seen], world_T_robot});
+      if (explorer.Events()[events_seen].kind == explore::ExploreEvent::Kind::kScanDone &&
+          std::isnan(out.summary.setoff_seconds))
+        first_setoff = true;
+    }
+    // How well the explorer knows the corridor's axis (ground truth; the loop does not see it).
+    const bool following = explorer.State() == explore::ExploreState::kFollow;
+    if (following || first_setoff) {
+      if (const std::optional<double> true_heading = sim::GroundTruthAt(world, world_T_robot).heading_deg) {
+        const double err = std::remainder(*true_heading - explorer.HeadingEstimateDeg(), 90.0);
+        if (following) axis_errors.push_back(std::abs(err));
+        if (first_setoff) {
+          out.summary.setoff_seconds = p.stamp_s;
+          out.summary.setoff_axis_error_deg = err;
+        }
+      }
+    }
 
     if (options.keep_trace) {
       ExploreTraceRow row;
@@ -319,6 +340,14 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   s.perception_cpu_seconds = perception_cpu;
   s.override_frames = explorer.ObstacleOverrides();
   s.obstacle_stops = explorer.ObstacleStops();
+  if (!axis_errors.empty()) {
+    const auto p90 = axis_errors.begin() + static_cast<std::ptrdiff_t>(0.9 * static_cast<double>(axis_errors.size() - 1));
+    std::nth_element(axis_errors.begin(), p90, axis_errors.end());
+    s.axis_error_p90_deg = *p90;
+    s.axis_error_over_10deg =
+        static_cast<double>(std::count_if(axis_errors.begin(), axis_errors.end(), [](double e) { return e > 10.0; })) /
+        static_cast<double>(axis_errors.size());
+  }
   out.topo = explorer.Map().Nodes();
   // "Could not proceed": the robot covered almost nothing new, or barely moved.
   const double expected_m = options.explorer.cruise_speed_mps * s.sim_seconds;

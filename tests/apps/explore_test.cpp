@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "cli_run.hpp"
 
@@ -33,13 +34,53 @@ TEST(ExploreCli, ShortRunWritesTheThreeOutputs) {
   std::ifstream js(out / "summary.json");
   const nlohmann::json j = nlohmann::json::parse(js);
   for (const char* key : {"sim_seconds", "distance_m", "collisions", "coverage", "ends_detected", "turns", "frames",
-                          "frames_fully_processed", "perception_cpu_seconds", "wall_seconds"})
+                          "frames_fully_processed", "perception_cpu_seconds", "wall_seconds", "setoff_seconds",
+                          "setoff_axis_error_deg", "axis_error_p90_deg", "axis_error_over_10deg"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_NEAR(j["sim_seconds"].get<double>(), 30.0, 0.1);
   EXPECT_EQ(j["frames"].get<long>(), 900);
   EXPECT_GT(j["distance_m"].get<double>(), 1.0);
   EXPECT_TRUE(std::filesystem::exists(out / "map.png"));
   EXPECT_TRUE(std::filesystem::exists(out / "trace.csv"));
+  std::filesystem::remove_all(out);
+}
+
+// `squint eval explore`: runs.csv's header (the last four columns against ground truth), one row per
+// start, and the table's footer lines.
+TEST(ExploreCli, EvalExploreWritesTheRunsTableAndTheAxisFigures) {
+  const auto out = TempDir("eval");
+  const CliResult r = RunSquint("eval explore --world corridor-0 --starts 2 --minutes 0.4 --seed 3 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.all();
+  std::ifstream csv(out / "runs.csv");
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line,
+            "world,start,x_m,y_m,yaw_deg,sim_seconds,distance_m,coverage,ends_detected,turns,collisions,proceeded,"
+            "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg");
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    ++rows;
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    if (!line.empty() && line.back() == ',') cells.emplace_back();
+    ASSERT_EQ(cells.size(), 16u) << line;
+    EXPECT_EQ(cells[0], "corridor-0");
+    // Start 0 is the world's start, along the axis: it sets off within seconds, nearly on the axis.
+    if (cells[1] == "0") {
+      ASSERT_FALSE(cells[12].empty()) << line;
+      EXPECT_LT(std::stod(cells[12]), 5.0) << line;
+      EXPECT_LT(std::abs(std::stod(cells[13])), 5.0) << line;
+      const double over = std::stod(cells[15]);
+      EXPECT_GE(over, 0.0);
+      EXPECT_LE(over, 1.0);
+    }
+  }
+  EXPECT_EQ(rows, 2);
+  std::ifstream md(out / "table.md");
+  const std::string table((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(table.find("runs without collision"), std::string::npos) << table;
+  EXPECT_NE(table.find("set-offs more than 10 deg off"), std::string::npos) << table;
   std::filesystem::remove_all(out);
 }
 

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -230,9 +232,46 @@ TEST(ExploreRun, OutputsAreWritten) {
   std::ifstream js(dir / "summary.json");
   const std::string text((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
   for (const char* key : {"sim_seconds", "distance_m", "collisions", "coverage", "ends_detected", "turns", "frames",
-                          "frames_fully_processed", "perception_cpu_seconds", "wall_seconds"})
+                          "frames_fully_processed", "perception_cpu_seconds", "wall_seconds", "setoff_seconds",
+                          "setoff_axis_error_deg", "axis_error_p90_deg", "axis_error_over_10deg"})
     EXPECT_NE(text.find(std::string("\"") + key + "\""), std::string::npos) << key;
   std::filesystem::remove_all(dir);
+}
+
+// The axis figures (setoff_*, axis_error_*) are the trace's: the first set-off's row, and the rows
+// spent following. In the short corridor, set off along the axis, they are small.
+TEST(ExploreRun, AxisErrorFiguresAreTheTracesAndSmallInAPlainCorridor) {
+  const sim::World world = sim::ParseWorld(kShortCorridor, "test:short");
+  ExploreRunOptions opt;
+  opt.minutes = 1.0;
+  opt.seed = 3;
+  const ExploreRunResult run = RunExplore(world, opt);
+  const ExploreSummary& s = run.summary;
+  ASSERT_FALSE(std::isnan(s.setoff_seconds));
+  const auto first = std::find_if(run.marks.begin(), run.marks.end(), [](const ExploreMark& m) {
+    return m.event.kind == explore::ExploreEvent::Kind::kScanDone;
+  });
+  ASSERT_NE(first, run.marks.end());
+  EXPECT_EQ(s.setoff_seconds, first->event.stamp_s);
+  std::vector<double> errs;
+  bool found_setoff = false;
+  for (const ExploreTraceRow& r : run.trace) {
+    const double err = std::remainder(r.true_heading_deg - r.heading_est_deg, 90.0);
+    if (r.t_s == s.setoff_seconds) {
+      EXPECT_DOUBLE_EQ(s.setoff_axis_error_deg, err);
+      found_setoff = true;
+    }
+    if (r.state == explore::ExploreState::kFollow && !std::isnan(r.true_heading_deg)) errs.push_back(std::abs(err));
+  }
+  EXPECT_TRUE(found_setoff);
+  ASSERT_GT(errs.size(), 100u);
+  const double over = static_cast<double>(std::count_if(errs.begin(), errs.end(), [](double e) { return e > 10.0; }));
+  EXPECT_DOUBLE_EQ(s.axis_error_over_10deg, over / static_cast<double>(errs.size()));
+  std::sort(errs.begin(), errs.end());
+  EXPECT_DOUBLE_EQ(s.axis_error_p90_deg, errs[static_cast<std::size_t>(0.9 * static_cast<double>(errs.size() - 1))]);
+  EXPECT_LT(std::abs(s.setoff_axis_error_deg), 3.0);
+  EXPECT_LT(s.axis_error_p90_deg, 5.0);
+  EXPECT_LT(s.axis_error_over_10deg, 0.02);
 }
 
 TEST(ExploreRun, InvalidOptionsAreAClearError) {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -128,6 +129,15 @@ struct ExploreSummary {
   long ipt_pairs = 0, ipt_classified = 0, advice_in_path = 0, override_frames = 0;
   int obstacle_stops = 0;
   double ipt_cpu_seconds = 0.0;  // part of perception_cpu_seconds
+  // How well the explorer knew the corridor's axis (ground truth, not used by the loop): at the
+  // first set-off (the end of the start-up alignment or scan) and over the frames spent following
+  // a corridor, the error of its heading estimate, i.e. the true heading relative to the corridor
+  // minus the explorer's, wrapped to (-45°, 45°] (the building is Manhattan). NaN when there was
+  // no set-off / no following frame with a ground-truth heading.
+  double setoff_seconds = std::numeric_limits<double>::quiet_NaN();
+  double setoff_axis_error_deg = std::numeric_limits<double>::quiet_NaN();
+  double axis_error_p90_deg = std::numeric_limits<double>::quiet_NaN();  // 90th percentile of |error|
+  double axis_error_over_10deg = std::numeric_limits<double>::quiet_NaN();  // fraction of those frames with |error| > 10°
   bool proceeded = true;     // false when exploration could not proceed (see outcome)
   std::string outcome;       // one line: what happened
 };
