@@ -17,6 +17,7 @@
 #include "command.hpp"
 #include "squint/core/angles.hpp"
 #include "squint/core/error.hpp"
+#include "squint/config/corridor_yaml.hpp"
 #include "squint/eval/explore_run.hpp"
 #include "squint/eval/plot.hpp"
 #include "squint/io/atomic_output.hpp"
@@ -86,6 +87,7 @@ struct ExploreCliOptions {
   std::uint64_t seed = 1;
   std::string out = "explore-out";
   int eval_start = -1;  // >= 0: start i of `squint eval explore --seed SEED` (its pose and noise seed)
+  std::string calib;    // corridor options YAML (`squint calibrate`'s file); empty: the defaults
   ExplorerVariants variants;
 };
 
@@ -94,6 +96,7 @@ void RunExploreCommand(const ExploreCliOptions& opt) {
   eval::ExploreRunOptions run_opt;
   run_opt.minutes = opt.minutes;
   run_opt.seed = opt.seed;
+  if (!opt.calib.empty()) run_opt.perception = config::LoadCorridorOptions(opt.calib);
   opt.variants.Apply(run_opt);
   if (opt.eval_start >= 0) {
     // The same start pose and noise seed as run `eval_start` of `squint eval explore --seed SEED`.
@@ -122,6 +125,7 @@ struct EvalExploreOptions {
   double minutes = 5.0;
   std::uint64_t seed = 1;
   std::string out = "explore-eval";
+  std::string calib;  // as ExploreCliOptions::calib
   ExplorerVariants variants;
 };
 
@@ -139,6 +143,8 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
   if (names.empty()) names = sim::BuiltinWorldNames();
   std::vector<sim::World> worlds;
   for (const std::string& n : names) worlds.push_back(sim::LoadWorld(n));
+  corridor::CorridorOptions perception;
+  if (!opt.calib.empty()) perception = config::LoadCorridorOptions(opt.calib);
   io::StagedDirectory staged(opt.out);
   ProgressBar bar("eval explore", names.size() * static_cast<std::size_t>(opt.starts));
   std::size_t done = 0;
@@ -161,6 +167,7 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
       ro.seed = opt.seed + static_cast<std::uint64_t>(i);
       ro.start = starts[i];
       ro.keep_trace = false;
+      ro.perception = perception;
       opt.variants.Apply(ro);
       if (std::string e = ro.Validate(); !e.empty()) throw Error("eval explore: " + e);
       const eval::ExploreRunResult run = eval::RunExplore(world, ro);
@@ -275,6 +282,10 @@ void Register(CLI::App& root) {
   cmd->add_option("--eval-start", opt->eval_start,
                   "Run start I of `squint eval explore --seed SEED` (its start pose and noise seed) with full outputs")
       ->check(CLI::Range(0, 999));
+  cmd->add_option("--calib", opt->calib,
+                  "Corridor options YAML, as `squint calibrate` writes it (include/squint/config/corridor_yaml.hpp); "
+                  "default: the built-in options")
+      ->check(CLI::ExistingFile);
   opt->variants.AddFlags(cmd, true);
   cmd->callback([opt] { RunExploreCommand(*opt); });
 
@@ -286,6 +297,7 @@ void Register(CLI::App& root) {
   ex->add_option("--minutes", eopt->minutes, "Simulated minutes per start")->capture_default_str()->check(CLI::PositiveNumber);
   ex->add_option("--seed", eopt->seed, "Seed of the start poses and noise")->capture_default_str();
   ex->add_option("--out", eopt->out, "Output folder: table.md, runs.csv, map-WORLD.png")->capture_default_str();
+  ex->add_option("--calib", eopt->calib, "As `squint explore`")->check(CLI::ExistingFile);
   eopt->variants.AddFlags(ex, false);
   ex->callback([eopt] { RunEvalExplore(*eopt); });
 

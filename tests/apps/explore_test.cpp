@@ -84,6 +84,41 @@ TEST(ExploreCli, EvalExploreWritesTheRunsTableAndTheAxisFigures) {
   std::filesystem::remove_all(out);
 }
 
+// `--calib FILE` (explore and eval explore): the defaults written as a file give the same run as no
+// file; a file that changes the heading cues' weights changes the run; a bad file is one clear
+// error line and no output folder.
+TEST(ExploreCli, CalibrationFileIsReadBack) {
+  const auto dir = TempDir("calib");
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream(dir / "defaults.yaml") << "heading: {slice_width_px: 3}\n";
+    std::ofstream(dir / "bright.yaml") << "heading:\n  cues:\n    bright: {weight: 4.0}\n    symmetry: {weight: 0.5}\n";
+    std::ofstream(dir / "bad.yaml") << "heading:\n  cues:\n    bright: {weight: [1, 2]}\n";
+  }
+  auto summary = [&](const std::string& name, const std::string& calib) {
+    const auto out = dir / name;
+    const CliResult r = RunSquint("explore --world corridor-3 --minutes 0.4 --seed 4 --out " + out.string() + calib);
+    EXPECT_EQ(r.code, 0) << r.all();
+    std::ifstream js(out / "summary.json");
+    return nlohmann::json::parse(js);
+  };
+  const nlohmann::json none = summary("none", "");
+  const nlohmann::json defaults = summary("defaults", " --calib " + (dir / "defaults.yaml").string());
+  const nlohmann::json bright = summary("bright", " --calib " + (dir / "bright.yaml").string());
+  EXPECT_EQ(none["distance_m"], defaults["distance_m"]);
+  EXPECT_EQ(none["frames_fully_processed"], defaults["frames_fully_processed"]);
+  EXPECT_EQ(none["axis_error_p90_deg"], defaults["axis_error_p90_deg"]);
+  EXPECT_NE(none["axis_error_p90_deg"], bright["axis_error_p90_deg"]);
+
+  const auto out = dir / "bad-out";
+  const CliResult r = RunSquint("eval explore --world corridor-3 --starts 1 --minutes 0.2 --calib " +
+                                (dir / "bad.yaml").string() + " --out " + out.string());
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("bad.yaml"), std::string::npos) << r.all();
+  EXPECT_FALSE(std::filesystem::exists(out));
+  std::filesystem::remove_all(dir);
+}
+
 // A T met from its bar (world file): the robot must find the stem from the bar, turn into it
 // (a -90 turn near x = 12) and cover more than the bar alone (24 of 34 m) in two minutes.
 TEST(ExploreCli, TakesTheSideBranchOfATMetFromItsBar) {
