@@ -50,6 +50,9 @@ struct ExplorerVariants {
   bool sonar_open_entropy = true;
   // The lights' line's heading also moves the corridor axis (ExplorerOptions::light_axis_gain; off).
   bool light_heading = false;
+  // The drift of the offsets from the lights' line turns the axis (ExplorerOptions::light_drift_gain; 0: off).
+  double light_drift_gain = 0.0;
+
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
     ro.explorer.heading_filter_prior_std_deg = heading_prior_std_deg;
@@ -58,6 +61,7 @@ struct ExplorerVariants {
     ro.explorer.mouth_centre_min_m = mouth_centring ? 0.25 : 0.0;
     ro.explorer.sonar_open_min_entropy_ratio = sonar_open_entropy ? 0.7 : 0.0;
     ro.explorer.light_axis_gain = light_heading ? 0.05 : 0.0;
+    ro.explorer.light_drift_gain = light_drift_gain;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -78,6 +82,10 @@ struct ExplorerVariants {
                   text("A side free by the sonar is open only if its glance entropy is not a wall's, 0.7 of the corridor's (on by default; docs/explore.md, session 12)"));
     cmd->add_flag("--light-heading,!--no-light-heading", light_heading,
                   text("The ceiling lights' line's heading also steers the corridor axis (off by default; docs/explore.md, session 12)"));
+    cmd->add_option("--light-drift-gain", light_drift_gain,
+                    text("The drift of the offsets from the lights' line over the travel turns the corridor axis by this gain per frame (0: off; docs/explore.md, session 13)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
   }
 };
 

@@ -120,6 +120,10 @@ std::string ExplorerOptions::Validate() const {
     return "branch_line_band_m must be >= branch_line_tolerance_m";
   if (branch_line_samples < 1) return "branch_line_samples must be at least 1";
   if (!NonNegative(light_axis_gain) || light_axis_gain > 1.0) return "light_axis_gain must be in [0, 1]";
+  if (!NonNegative(light_drift_gain) || light_drift_gain > 1.0) return "light_drift_gain must be in [0, 1]";
+  if (!Positive(light_drift_gate_deg) || !Positive(light_drift_window_m) || !Positive(light_drift_max_rms_m) ||
+      !Positive(light_drift_max_deg) || !NonNegative(light_drift_min_span_m) || light_drift_min_readings < 3)
+    return "light_drift_*: gate, window, residual and angle must be positive, min readings >= 3";
   if (!Positive(light_axis_gate_deg)) return "light_axis_gate_deg must be positive";
   if (!NonNegative(mouth_centre_min_m)) return "mouth_centre_min_m must be >= 0";
   if (!(mouth_centre_max_m >= mouth_centre_min_m && std::isfinite(mouth_centre_max_m)))
@@ -576,6 +580,7 @@ void Explorer::StartFollow(const Percept&) {
   lateral_cue_deg_ = 0.0;
   lateral_valid_ = false;
   light_readings_.clear();
+  light_drift_.clear();
   light_confirmed_s_ = -1.0;
   light_axis_s_ = -1.0;
   ref_entropy_.clear();
@@ -609,6 +614,7 @@ void Explorer::UpdateAxis(const Percept& p) {
       }
       sides_[0] = sides_[1] = SideTrack{};  // walls seen in the old frame do not arm an opening
       light_readings_.clear();
+      light_drift_.clear();
       light_confirmed_s_ = -1.0;
       outlier_axes_.clear();
       heading_filter_reset_ = true;
@@ -668,6 +674,45 @@ void Explorer::UpdateLight(const Percept& p) {
   light_confirmed_s_ = p.stamp_s;
 }
 
+void Explorer::UpdateLightDrift(const Percept& p) {
+  if (opt_.light_drift_gain <= 0.0) return;
+  const Eigen::Vector2d o = p.odom_T_robot.Translation();
+  if (p.light_lateral_m && p.light_heading_deg &&
+      std::abs(*p.light_heading_deg - HeadingEstimateDeg()) <= opt_.light_drift_gate_deg &&
+      std::abs(*p.light_lateral_m) <= opt_.light_max_lateral_m)
+    light_drift_.push_back({o, *p.light_lateral_m});
+  if (light_drift_.empty()) return;
+  // Keep the last light_drift_window_m of travel along the axis.
+  const Eigen::Vector2d u(std::cos(axis_yaw_odom_), std::sin(axis_yaw_odom_));
+  const Eigen::Vector2d n(-u.y(), u.x());
+  std::size_t first = 0;
+  while (first < light_drift_.size() && std::abs(u.dot(o - light_drift_[first].odom)) > opt_.light_drift_window_m) ++first;
+  light_drift_.erase(light_drift_.begin(), light_drift_.begin() + static_cast<std::ptrdiff_t>(first));
+  const std::size_t k = light_drift_.size();
+  if (static_cast<int>(k) < opt_.light_drift_min_readings) return;
+  // across − offset = c + δ · along: the line's direction is the axis turned by δ.
+  double sa = 0.0, sb = 0.0, saa = 0.0, sab = 0.0, lo = 1e300, hi = -1e300;
+  for (const LightDrift& r : light_drift_) {
+    const double a = u.dot(r.odom - o), b = n.dot(r.odom - o) - r.lateral_m;
+    sa += a, sb += b, saa += a * a, sab += a * b;
+    lo = std::min(lo, a), hi = std::max(hi, a);
+  }
+  if (hi - lo < opt_.light_drift_min_span_m) return;
+  const double kk = static_cast<double>(k);
+  const double var = saa - sa * sa / kk;
+  if (!(var > 0.0)) return;
+  const double slope = (sab - sa * sb / kk) / var;
+  const double c = (sb - slope * sa) / kk;
+  double ss = 0.0;
+  for (const LightDrift& r : light_drift_) {
+    const double a = u.dot(r.odom - o), b = n.dot(r.odom - o) - r.lateral_m;
+    ss += (b - c - slope * a) * (b - c - slope * a);
+  }
+  const double delta = std::atan(slope);
+  if (std::sqrt(ss / kk) > opt_.light_drift_max_rms_m || std::abs(delta) > DegToRad(opt_.light_drift_max_deg)) return;
+  RotateAxis(opt_.light_drift_gain * delta);
+}
+
 bool Explorer::LightLateral(double stamp_s, const Pose2& odom_T_robot, double* lateral_m) const {
   if (opt_.light_centre_gain <= 0.0 || light_confirmed_s_ < 0.0 || stamp_s - light_confirmed_s_ > opt_.light_hold_s)
     return false;
@@ -686,6 +731,7 @@ Command Explorer::FollowStep(const Percept& p) {
     }
   }
   UpdateLight(p);
+  UpdateLightDrift(p);
   double wall_axis = 0.0;
   if (p.sonar != nullptr && travel_in_corridor_m_ > 1.0 && WallAxis(&wall_axis)) {
     // The walls the memory holds pull a drifted axis back (the glance's heading drifts at a T).

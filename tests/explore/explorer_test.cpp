@@ -35,6 +35,7 @@ struct ToyCorridor {
   double bias_from_x = 1.0;
   bool filtered = false;
   bool lights = false;  // every frame carries the lights' line's heading (the truth)
+  bool light_offsets = false;  // and the robot's offset from it (a centre row: the lateral offset)
 
   Pose2 pose;        // true pose
   Pose2 odom;        // odometry
@@ -61,6 +62,7 @@ struct ToyCorridor {
     p.glance_entropy_nats = (open ? kOpenEntropy : kWallEntropy) - 0.2 * std::abs(heading_deg) / 45.0;
     p.processed = frame % process_every == 0;
     if (lights) p.light_heading_deg = heading_deg;
+    if (light_offsets) p.light_lateral_m = lateral;
     if (p.processed) {
       p.heading_deg = heading_deg + (pose.x >= bias_from_x ? per_frame_bias_deg : 0.0);
       if (filtered) p.heading_filtered_deg = heading_deg;
@@ -230,15 +232,18 @@ TEST(Explorer, HeadingHeldThroughGatedFramesDespiteOdometryDrift) {
 // The worst true yaw (degrees) between x = 4 and x = 8 while following without centring, the
 // per-frame heading biased by 8° from x = 1.
 double WorstYawWithBiasedPerFrameHeading(bool filtered, double filtered_axis_gain, bool lights = false,
-                                         double light_axis_gain = 0.0) {
+                                         double light_axis_gain = 0.0, double light_drift_gain = 0.0) {
   ToyCorridor world;
   world.per_frame_bias_deg = 8.0;
   world.filtered = filtered;
   world.lights = lights;
+  world.light_offsets = light_drift_gain > 0.0;
   ExplorerOptions o;
   o.filtered_axis_gain = filtered_axis_gain;
   o.light_axis_gain = light_axis_gain;
+  o.light_drift_gain = light_drift_gain;
   o.centre_gain = 0.0;  // no centring: the yaw shows the axis alone
+  if (light_drift_gain > 0.0) o.light_centre_gain = 0.0;  // nor on the lights
   Explorer explorer(o);
   while (explorer.State() != ExploreState::kFollow) world.Apply(explorer.Step(world.Perceive()));
   double worst_deg = 0.0;
@@ -264,6 +269,12 @@ TEST(Explorer, AxisFollowsTheLightsLineHeadingWhenEnabled) {
   EXPECT_GT(WorstYawWithBiasedPerFrameHeading(false, 0.0, true, 0.0), 5.0);
   // Used: it holds the axis and the glance's biased inliers are left out.
   EXPECT_LT(WorstYawWithBiasedPerFrameHeading(false, 0.0, true, 0.05), 1.0);
+}
+
+TEST(Explorer, AxisFollowsTheLightsLineDriftWhenEnabled) {
+  // The offsets from the lights' line drift while the biased per-frame heading holds the robot
+  // off the axis; their drift over the odometry's travel turns the axis back.
+  EXPECT_LT(WorstYawWithBiasedPerFrameHeading(false, 0.0, true, 0.0, 0.2), 2.0);
 }
 
 TEST(Explorer, HeadingFilterResetAtEveryNewCorridor) {

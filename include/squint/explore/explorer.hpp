@@ -180,6 +180,20 @@ struct ExplorerOptions {
   // default; `squint explore --light-heading` sets 0.05; docs/explore.md, session 12).
   double light_axis_gain = 0.0;
   double light_axis_gate_deg = 10.0;
+  // The lights' line's drift (session 13): the offsets from the lights' line (within
+  // light_max_lateral_m, their line's heading within light_drift_gate_deg of the explorer's) at
+  // the odometry positions where they were read, over the last light_drift_window_m of travel,
+  // give the line's direction in the odometry frame by least squares (offset = across − along ·
+  // tan δ); with at least light_drift_min_readings readings spanning light_drift_min_span_m, a
+  // residual below light_drift_max_rms_m and |δ| ≤ light_drift_max_deg, each frame moves the axis
+  // by light_drift_gain · δ. 0 turns it off.
+  double light_drift_gain = 0.0;
+  double light_drift_gate_deg = 12.0;
+  double light_drift_window_m = 4.0;
+  double light_drift_min_span_m = 2.0;
+  int light_drift_min_readings = 10;
+  double light_drift_max_rms_m = 0.06;
+  double light_drift_max_deg = 12.0;
   double rescan_yaw_deg = 12.0;       // no forward motion until a scan was taken at the heading
   // Following: after this travel in the corridor the latest scan's blocked-near columns block only
   // the narrow sector at the blind range, and those along which the floor in the blind zone was
@@ -417,6 +431,12 @@ class Explorer {
     double across_m = 0.0;
   };
   std::vector<LightReading> light_readings_;
+  struct LightDrift {
+    Eigen::Vector2d odom;  // where the reading was taken (odometry frame)
+    double lateral_m;      // the robot's offset from the lights' line, left positive
+  };
+  std::vector<LightDrift> light_drift_;
+  void UpdateLightDrift(const Percept& p);
   Eigen::Vector2d light_ref_ = Eigen::Vector2d::Zero();
   double light_across_m_ = 0.0;
   double light_confirmed_s_ = -1.0;
