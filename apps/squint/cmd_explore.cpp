@@ -52,6 +52,8 @@ struct ExplorerVariants {
   bool light_heading = false;
   // The drift of the offsets from the lights' line turns the axis (ExplorerOptions::light_drift_gain; 0: off).
   double light_drift_gain = 0.0;
+  // The obstacle pipeline in the loop (eval::ExploreRunOptions::obstacle_pipeline; off).
+  bool obstacle_pipeline = false;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -62,6 +64,7 @@ struct ExplorerVariants {
     ro.explorer.sonar_open_min_entropy_ratio = sonar_open_entropy ? 0.7 : 0.0;
     ro.explorer.light_axis_gain = light_heading ? 0.05 : 0.0;
     ro.explorer.light_drift_gain = light_drift_gain;
+    ro.obstacle_pipeline = obstacle_pipeline;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -86,6 +89,8 @@ struct ExplorerVariants {
                     text("The drift of the offsets from the lights' line over the travel turns the corridor axis by this gain per frame (0: off; docs/explore.md, session 13)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
+    cmd->add_flag("--obstacle-pipeline,!--no-obstacle-pipeline", obstacle_pipeline,
+                  text("Run the obstacle pipeline (inverse perspective, outlines, polar map, free-gap steering) on a 256x192 frame every 12th frame while following; its advice overrides the corridor following (off by default; docs/explore.md)"));
   }
 };
 

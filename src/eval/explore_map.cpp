@@ -137,6 +137,13 @@ std::string SummaryJson(const ExploreSummary& s) {
   j["setoff_axis_error_deg"] = num(s.setoff_axis_error_deg);
   j["axis_error_p90_deg"] = num(s.axis_error_p90_deg);
   j["axis_error_over_10deg"] = num(s.axis_error_over_10deg);
+  // The obstacle pipeline (`--obstacle-pipeline`; zeros when off): frame pairs run and classified,
+  // advices with an obstacle across the path, frames it steered or stopped, stop-and-turns.
+  j["ipt_pairs"] = s.ipt_pairs;
+  j["ipt_classified"] = s.ipt_classified;
+  j["advice_in_path"] = s.advice_in_path;
+  j["override_frames"] = s.override_frames;
+  j["obstacle_stops"] = s.obstacle_stops;
   return j.dump(2) + "\n";
 }
 

@@ -119,6 +119,22 @@ TEST(ExploreCli, CalibrationFileIsReadBack) {
   std::filesystem::remove_all(dir);
 }
 
+// `--obstacle-pipeline` runs the obstacle pipeline in the loop (its counts in summary.json); off by
+// default.
+TEST(ExploreCli, ObstaclePipelineSwitch) {
+  const auto dir = TempDir("ipt");
+  auto pairs = [&](const std::string& name, const std::string& flag) {
+    const auto out = dir / name;
+    const CliResult r = RunSquint("explore --world obstacle-course --minutes 0.3 --seed 2 --out " + out.string() + flag);
+    EXPECT_EQ(r.code, 0) << r.all();
+    std::ifstream js(out / "summary.json");
+    return nlohmann::json::parse(js)["ipt_pairs"].get<long>();
+  };
+  EXPECT_EQ(pairs("off", ""), 0);
+  EXPECT_GT(pairs("on", " --obstacle-pipeline"), 0);
+  std::filesystem::remove_all(dir);
+}
+
 // A T met from its bar (world file): the robot must find the stem from the bar, turn into it
 // (a -90 turn near x = 12) and cover more than the bar alone (24 of 34 m) in two minutes.
 TEST(ExploreCli, TakesTheSideBranchOfATMetFromItsBar) {
