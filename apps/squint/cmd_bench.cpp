@@ -91,7 +91,7 @@ void Register(CLI::App& root) {
   cmd->add_flag("--json", opt->json, "Print one JSON object of medians");
   cmd->add_flag("--quick", opt->quick, "One short repetition per case (a smoke run, not a measurement)");
   cmd->add_option("--filter", opt->filter, "Regular expression selecting the cases");
-  cmd->add_option("--repetitions", opt->repetitions, "Repetitions whose median is reported")->check(CLI::PositiveNumber);
+  cmd->add_option("--repetitions", opt->repetitions, "Repetitions whose median is reported")->check(kPositive);
   cmd->callback([opt] { Run(*opt); });
 }
 

@@ -289,7 +289,7 @@ void Register(CLI::App& root) {
   cmd->add_option("--world", opt->world, "Built-in world name or world YAML file")->capture_default_str();
   cmd->add_option("--minutes", opt->minutes, "Simulated minutes (the run is bounded by this)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd->add_option("--seed", opt->seed, "Seed for odometry and sensor noise")->capture_default_str();
   cmd->add_option("--out", opt->out, "Output folder: summary.json, map.png, trace.csv, events.csv")->capture_default_str();
   cmd->add_option("--eval-start", opt->eval_start,
@@ -307,7 +307,7 @@ void Register(CLI::App& root) {
   CLI::App* ex = eval_cmd->add_subcommand("explore", "Seeded starts per world (incl. facing and close to a wall): table and maps");
   ex->add_option("--world", eopt->worlds, "World name or file (repeatable); default: every built-in world");
   ex->add_option("--starts", eopt->starts, "Starts per world")->capture_default_str()->check(CLI::Range(1, 1000));
-  ex->add_option("--minutes", eopt->minutes, "Simulated minutes per start")->capture_default_str()->check(CLI::PositiveNumber);
+  ex->add_option("--minutes", eopt->minutes, "Simulated minutes per start")->capture_default_str()->check(kPositive);
   ex->add_option("--seed", eopt->seed, "Seed of the start poses and noise")->capture_default_str();
   ex->add_option("--out", eopt->out, "Output folder: table.md, runs.csv, map-WORLD.png")->capture_default_str();
   ex->add_option("--calib", eopt->calib, "As `squint explore`")->check(CLI::ExistingFile);

@@ -188,9 +188,14 @@ TEST(ExploreCli, UnknownWorldIsOneClearLine) {
 
 TEST(ExploreCli, NonPositiveMinutesIsRejected) {
   const auto out = TempDir("minutes");
-  const CliResult r = RunSquint("explore --minutes 0 --out " + out.string());
-  EXPECT_NE(r.code, 0);
-  EXPECT_FALSE(std::filesystem::exists(out));
+  for (const char* minutes : {"0", "-1", "nan", "abc"}) {
+    const CliResult r = RunSquint(std::string("explore --minutes ") + minutes + " --out " + out.string());
+    EXPECT_NE(r.code, 0) << minutes;
+    // One readable line naming the option (CLI11's own range message spells out the largest double).
+    EXPECT_NE(r.err.find("--minutes: must be a number > 0"), std::string::npos) << r.all();
+    EXPECT_LT(r.err.find('\n'), 80u) << r.all();
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
 }
 
 }  // namespace
