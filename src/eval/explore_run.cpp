@@ -285,9 +285,12 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
         first_setoff = true;
     }
     // How well the explorer knows the corridor's axis (ground truth; the loop does not see it).
+    // The ground truth is looked up once per frame, for these figures and the trace.
     const bool following = explorer.State() == explore::ExploreState::kFollow;
+    std::optional<GroundTruth> gt;
+    if (following || first_setoff || options.keep_trace) gt = sim::GroundTruthAt(world, world_T_robot);
     if (following || first_setoff) {
-      if (const std::optional<double> true_heading = sim::GroundTruthAt(world, world_T_robot).heading_deg) {
+      if (const std::optional<double> true_heading = gt->heading_deg) {
         const double err = std::remainder(*true_heading - explorer.HeadingEstimateDeg(), 90.0);
         if (following) axis_errors.push_back(std::abs(err));
         if (first_setoff) {
@@ -309,10 +312,9 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
       row.entropy = r.entropy;
       row.heading_est_deg = explorer.HeadingEstimateDeg();
       row.dist_est_m = explorer.DistEndEstimateM() >= 0.0 ? explorer.DistEndEstimateM() : kNaN;
-      const GroundTruth gt = sim::GroundTruthAt(world, world_T_robot);
-      row.true_heading_deg = Or(gt.heading_deg);
-      row.true_lateral_m = Or(gt.lateral_m);
-      row.true_dist_end_m = Or(gt.dist_end_m);
+      row.true_heading_deg = Or(gt->heading_deg);
+      row.true_lateral_m = Or(gt->lateral_m);
+      row.true_dist_end_m = Or(gt->dist_end_m);
       row.state = explorer.State();
       row.v_mps = cmd.v_mps;
       row.omega_rps = cmd.omega_rps;

@@ -691,23 +691,19 @@ void Explorer::UpdateLightDrift(const Percept& p) {
   const std::size_t k = light_drift_.size();
   if (static_cast<int>(k) < opt_.light_drift_min_readings) return;
   // across − offset = c + δ · along: the line's direction is the axis turned by δ.
-  double sa = 0.0, sb = 0.0, saa = 0.0, sab = 0.0, lo = 1e300, hi = -1e300;
+  double sa = 0.0, sb = 0.0, saa = 0.0, sab = 0.0, sbb = 0.0, lo = 1e300, hi = -1e300;
   for (const LightDrift& r : light_drift_) {
     const double a = u.dot(r.odom - o), b = n.dot(r.odom - o) - r.lateral_m;
-    sa += a, sb += b, saa += a * a, sab += a * b;
+    sa += a, sb += b, saa += a * a, sab += a * b, sbb += b * b;
     lo = std::min(lo, a), hi = std::max(hi, a);
   }
   if (hi - lo < opt_.light_drift_min_span_m) return;
   const double kk = static_cast<double>(k);
-  const double var = saa - sa * sa / kk;
+  const double var = saa - sa * sa / kk;  // centred sums of squares and products
   if (!(var > 0.0)) return;
-  const double slope = (sab - sa * sb / kk) / var;
-  const double c = (sb - slope * sa) / kk;
-  double ss = 0.0;
-  for (const LightDrift& r : light_drift_) {
-    const double a = u.dot(r.odom - o), b = n.dot(r.odom - o) - r.lateral_m;
-    ss += (b - c - slope * a) * (b - c - slope * a);
-  }
+  const double cov = sab - sa * sb / kk;
+  const double slope = cov / var;
+  const double ss = std::max(0.0, sbb - sb * sb / kk - slope * cov);  // the fit's squared residuals
   const double delta = std::atan(slope);
   if (std::sqrt(ss / kk) > opt_.light_drift_max_rms_m || std::abs(delta) > DegToRad(opt_.light_drift_max_deg)) return;
   RotateAxis(opt_.light_drift_gain * delta);
