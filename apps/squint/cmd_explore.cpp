@@ -54,6 +54,9 @@ struct ExplorerVariants {
   double light_drift_gain = 0.0;
   // The obstacle pipeline in the loop (eval::ExploreRunOptions::obstacle_pipeline; off).
   bool obstacle_pipeline = false;
+  // A sonar column clears the memory only up to its own reading, so the median across columns
+  // does not erase a thin thing such as a chair leg (ObstacleMemoryOptions::clear_own_within_m; off).
+  bool own_range_clearing = false;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -65,6 +68,7 @@ struct ExplorerVariants {
     ro.explorer.light_axis_gain = light_heading ? 0.05 : 0.0;
     ro.explorer.light_drift_gain = light_drift_gain;
     ro.obstacle_pipeline = obstacle_pipeline;
+    ro.explorer.memory.clear_own_within_m = own_range_clearing ? 1.2 : 0.0;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -91,6 +95,8 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("--obstacle-pipeline,!--no-obstacle-pipeline", obstacle_pipeline,
                   text("Run the obstacle pipeline (inverse perspective, outlines, polar map, free-gap steering) on a 256x192 frame every 12th frame while following; its advice overrides the corridor following (off by default; docs/explore.md)"));
+    cmd->add_flag("--own-range-clearing,!--no-own-range-clearing", own_range_clearing,
+                  text("A visual-sonar column clears the obstacle memory only up to its own reading within 1.2 m (none where it was itself blocked near), so thin things such as chair legs stay remembered (off by default; docs/explore.md, session 14)"));
   }
 };
 

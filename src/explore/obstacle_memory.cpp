@@ -21,6 +21,7 @@ std::string ObstacleMemoryOptions::Validate() const {
   if (!(blind_points_from_m >= 0.0) || !std::isfinite(blind_points_from_m)) return "blind_points_from_m must be >= 0";
   if (!(blind_points_keep_s > 0.0) || !std::isfinite(blind_points_keep_s)) return "blind_points_keep_s must be positive";
   if (confirm_scans < 0 || confirm_scans > 1000) return "confirm_scans must be in [0, 1000]";
+  if (!(clear_own_within_m >= 0.0) || !std::isfinite(clear_own_within_m)) return "clear_own_within_m must be zero or positive";
   if (!(confirm_baseline_m >= 0.0) || !std::isfinite(confirm_baseline_m)) return "confirm_baseline_m must be >= 0";
   if (!(blocked_view_fraction >= 0.0 && blocked_view_fraction <= 1.0)) return "blocked_view_fraction must be in [0, 1]";
   if (blocked_view_scans < 1 || blocked_view_scans > 100) return "blocked_view_scans must be in [1, 100]";
@@ -169,6 +170,11 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
   blocked_stamp_s_ = stamp_s;
   for (const SonarColumn& c : scan) {
     const double yaw = odom_T_robot.yaw + c.bearing_rad;
+    // How far this column's own reading proves the floor (clear_own_within_m): up to its own
+    // step, or nowhere when it was itself blocked near.
+    const bool own_limits = options_.clear_own_within_m > 0.0 && c.own_range_m < options_.clear_own_within_m &&
+                            c.own_range_m < c.range_m;
+    const double own_to = own_limits ? c.own_range_m - clear_margin : std::numeric_limits<double>::infinity();
     const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
     switch (c.kind) {
       case SonarReturn::kBlockedNear:
@@ -179,14 +185,14 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
         break;
       case SonarReturn::kBoundary: {
         const double from = c.range_m >= options_.clear_blind_min_range_m ? 0.0 : near_blind_m;
-        ClearRay(o, yaw, from, c.range_m - clear_margin, near_blind_m, stamp_s);
+        ClearRay(o, yaw, from, std::min(c.range_m - clear_margin, own_to), near_blind_m, stamp_s);
         Insert(o + c.range_m * d, o, stamp_s);
         break;
       }
       case SonarReturn::kUnknown:
         break;
       case SonarReturn::kFar:
-        ClearRay(o, yaw, 0.0, std::min(c.range_m, options_.query_radius_m + options_.cell_m), near_blind_m, stamp_s);
+        ClearRay(o, yaw, 0.0, std::min({c.range_m, options_.query_radius_m + options_.cell_m, own_to}), near_blind_m, stamp_s);
         break;
     }
   }

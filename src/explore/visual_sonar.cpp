@@ -274,6 +274,7 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
     SonarColumn& c = out_[static_cast<std::size_t>(u)];
     c.bearing_rad = bearing_[static_cast<std::size_t>(u)];
     c.range_m = r;
+    c.own_range_m = raw_[static_cast<std::size_t>(u)];
     c.boundary_row = -1;
     c.floor_edge_m = 0.0;
     if (r <= 0.0) {

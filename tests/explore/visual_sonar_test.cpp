@@ -293,6 +293,32 @@ TEST(VisualSonar, ThinPostCloseByWinsOneRankEarly) {
   EXPECT_NE(bad.Validate(), "");
 }
 
+// The same post 1.5 m away is voted out of the median's range, but each column keeps its own
+// reading (own_range_m): the post's columns their step's range, the floor's columns the wall's.
+TEST(VisualSonar, OwnRangeKeepsAThinPostTheMedianVotesOut) {
+  CameraModel cam = SonarCamera();
+  cam.pitch_deg = -10.0;
+  VisualSonarOptions opt;
+  opt.column_half_width = 0;
+  VisualSonar sonar(cam, opt);
+  int row = 47;
+  while (row > 30 && sonar.RangeAt(41, row) < 1.5) --row;
+  Image im = FloorWall(std::vector<int>(64, 30));
+  for (int u = 40; u <= 41; ++u)
+    for (int v = 0; v <= row; ++v) im.At(u, v) = 120;
+  const auto& out = sonar.Process(im.View());
+  for (int u = 40; u <= 41; ++u) {
+    EXPECT_NEAR(out[static_cast<std::size_t>(u)].own_range_m, sonar.RangeAt(u, row), 1e-9) << "column " << u;
+    // Voted out: the median reads the wall's base (row 30) of some column within its 7.
+    double lo = 1e9, hi = 0.0;
+    for (int x = u - 3; x <= u + 3; ++x) lo = std::min(lo, sonar.RangeAt(x, 30)), hi = std::max(hi, sonar.RangeAt(x, 30));
+    EXPECT_GE(out[static_cast<std::size_t>(u)].range_m, lo - 1e-9) << "column " << u;
+    EXPECT_LE(out[static_cast<std::size_t>(u)].range_m, hi + 1e-9) << "column " << u;
+    EXPECT_GT(out[static_cast<std::size_t>(u)].range_m, out[static_cast<std::size_t>(u)].own_range_m + 0.3) << "column " << u;
+  }
+  for (int u : {10, 30, 50}) EXPECT_NEAR(out[static_cast<std::size_t>(u)].own_range_m, out[static_cast<std::size_t>(u)].range_m, 1e-9);
+}
+
 // A wall filling the view with a bright line at the horizon in a few columns (a mortar course):
 // those columns read far, but 5 of them are too few for a floor reference, so the rest stays
 // blocked near (not "unknown", which would let the robot drive into the wall).
@@ -477,6 +503,40 @@ TEST(ObstacleMemory, FloorSeenLaterClearsAStaleBoundary) {
   mem.Update(WallScan(cam, 2.8), Pose2{}, 0.1, 1.2);  // the same view now shows floor to 2.8 m
   mem.Gather(Pose2{}, 0.1);
   EXPECT_NEAR(mem.FreeTravel(Pose2{}, 0.0, 0.35, 5.0), 2.8 - 0.35, 0.02);
+}
+
+// A post remembered 1.0 m ahead; a later scan's median reads floor to a wall at 2.8 m in every
+// column, but the columns along the post read it themselves (own_range_m 1.0 m) or were blocked
+// near. Without clear_own_within_m the later scan erases the post; with it the post still stops
+// the robot, and columns whose own reading agrees with the median clear as before.
+TEST(ObstacleMemory, OwnRangeClearingKeepsWhatTheColumnItselfSaw) {
+  const CameraModel cam = SonarCamera();
+  auto run = [&](double own_within_m, bool blocked) {
+    ObstacleMemoryOptions opt;
+    opt.clear_own_within_m = own_within_m;
+    ObstacleMemory mem(opt);
+    std::vector<SonarColumn> first = WallScan(cam, 2.8);
+    for (SonarColumn& c : first) {
+      c.own_range_m = c.range_m;
+      if (std::abs(std::sin(c.bearing_rad) * 1.0) < 0.03) c.range_m = c.own_range_m = 1.0 / std::cos(c.bearing_rad);
+    }
+    mem.Update(first, Pose2{}, 0.0, 0.6);
+    std::vector<SonarColumn> later = WallScan(cam, 2.8);
+    for (SonarColumn& c : later) {
+      c.own_range_m = c.range_m;
+      if (std::abs(std::sin(c.bearing_rad) * 1.0) < 0.03) c.own_range_m = blocked ? 0.0 : 1.0 / std::cos(c.bearing_rad);
+    }
+    mem.Update(later, Pose2{}, 0.1, 0.6);
+    mem.Gather(Pose2{}, 0.1);
+    return mem.FreeTravel(Pose2{}, 0.0, 0.25, 5.0);
+  };
+  EXPECT_NEAR(run(0.0, false), 2.8 - 0.25, 0.02);  // the post is erased
+  EXPECT_NEAR(run(1.2, false), 1.0 - 0.25, 0.02);
+  EXPECT_NEAR(run(1.2, true), 1.0 - 0.25, 0.02);
+  EXPECT_NEAR(run(0.8, false), 2.8 - 0.25, 0.02);  // own readings beyond the option's range do not hold
+  ObstacleMemoryOptions bad;
+  bad.clear_own_within_m = -1.0;
+  EXPECT_NE(bad.Validate(), "");
 }
 
 TEST(ObstacleMemory, WallSeenFromSeveralPositionsSurvivesAReflectionOfFloorBeyondIt) {

@@ -86,6 +86,10 @@ struct SonarColumn {
   SonarReturn kind = SonarReturn::kFar;
   int boundary_row = -1;     // the lowest non-floor row when this column's own step gave the range, else -1
   double floor_edge_m = 0.0; // > 0: the range of a floor-material edge this column's floor crossed (same conditions)
+  // This column's own reading before the median across columns: 0 blocked near, max_range_m
+  // far or unknown, else its own step's range. A thin thing (a chair leg) the median votes out
+  // still shows here.
+  double own_range_m = 0.0;
 };
 
 class VisualSonar {
