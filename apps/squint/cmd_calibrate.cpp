@@ -171,6 +171,10 @@ void Register(CLI::App& root) {
                   "Time to contact's far-structure cells (px) written to the options when the base sets none; "
                   "0 = keep the base's (docs/calibration.md)")
       ->capture_default_str();
+  cmd->add_option("--floor-motion-window-m", opt->fit.floor_motion_window_m,
+                  "The floor contact's motion test over this much travel (m), written to the options when the base "
+                  "sets none; 0 = keep the base's (docs/calibration.md)")
+      ->capture_default_str();
   cmd->add_option("--ttc-cell-quantile", opt->fit.ttc_cell_quantile,
                   "Quantile of the cells' magnifications that is the estimate")
       ->capture_default_str();

@@ -74,4 +74,47 @@ std::optional<double> FloorContact::Measure(const PixelView& frame) {
   return med;
 }
 
+FloorMotionCheck::FloorMotionCheck(const CameraModel& camera, const FloorContactOptions& options)
+    : camera_(camera), options_(options) {
+  if (std::string e = options_.Validate(); !e.empty()) throw Error("floor contact: " + e);
+  if (std::string e = FloorContact::CameraProblem(camera_); !e.empty()) throw Error("floor contact: " + e);
+}
+
+void FloorMotionCheck::Reset() { head_ = count_ = 0; }
+
+double FloorMotionCheck::FloorRow(double dist_m) const {
+  // The ray to the floor point dips atan(h / d) below the horizontal; the optical axis is
+  // pitched by pitch_deg (negative: down), so at d → ∞ this is CameraModel::HorizonRow().
+  return camera_.cy + camera_.fy * std::tan(std::atan2(camera_.height_m, dist_m) + DegToRad(camera_.pitch_deg));
+}
+
+bool FloorMotionCheck::Update(double travel_m, std::optional<double> reading) {
+  constexpr int kCap = kMaxFloorMotionReadings;
+  if (reading) {
+    head_ = (head_ + 1) % kCap;
+    travel_[static_cast<std::size_t>(head_)] = travel_m;
+    reading_[static_cast<std::size_t>(head_)] = *reading;
+    count_ = std::min(count_ + 1, kCap);
+  }
+  if (!reading) return false;
+  // The readings within the window, newest first.
+  int n = 0;
+  double oldest_travel = travel_m;
+  for (int k = 0; k < count_; ++k) {
+    const auto idx = static_cast<std::size_t>(((head_ - k) % kCap + kCap) % kCap);
+    if (travel_m - travel_[idx] > options_.motion_window_m) break;
+    scratch_[static_cast<std::size_t>(n++)] = travel_[idx] + reading_[idx];
+    oldest_travel = travel_[idx];
+  }
+  if (n < options_.motion_min_readings || travel_m - oldest_travel < 0.5 * options_.motion_window_m) return false;
+  const double end = MedianInPlace(std::span<double>(scratch_.data(), static_cast<std::size_t>(n)));
+  int inliers = 0;
+  for (int k = 0; k < n; ++k) {
+    const auto idx = static_cast<std::size_t>(((head_ - k) % kCap + kCap) % kCap);
+    const double predicted = end - travel_[idx];
+    if (predicted > 0.0 && std::abs(FloorRow(reading_[idx]) - FloorRow(predicted)) <= options_.motion_tol_rows) ++inliers;
+  }
+  return inliers >= options_.motion_min_fraction * n;
+}
+
 }  // namespace squint::corridor

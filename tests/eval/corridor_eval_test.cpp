@@ -344,6 +344,30 @@ TEST(CalibrationBaseOptions, TurnsTheFarStructureCellsOnUnlessTheBaseSetsThemOrN
   EXPECT_EQ(back.options.distance.ttc_cell_nearest, 8);
 }
 
+TEST(CalibrationBaseOptions, TurnsTheFloorMotionTestOnUnlessTheBaseSetsOneOrNoDistanceIsFitted) {
+  const corridor::CorridorOptions defaults;
+  EXPECT_EQ(defaults.distance.floor_contact.motion_window_m, 0.0);  // the Perceiver's default: off
+  const corridor::CorridorOptions on = CalibrationBaseOptions(defaults, {});
+  EXPECT_EQ(on.distance.floor_contact.motion_window_m, 2.0);
+  EXPECT_TRUE(on.Validate().empty());
+  corridor::CorridorOptions mine;
+  mine.distance.floor_contact.motion_window_m = 1.5;
+  EXPECT_EQ(CalibrationBaseOptions(mine, {}).distance.floor_contact.motion_window_m, 1.5);
+  CalibrateOptions none;
+  none.floor_motion_window_m = 0.0;
+  EXPECT_EQ(CalibrationBaseOptions(defaults, none).distance.floor_contact.motion_window_m, 0.0);
+  CalibrateOptions heading_only;
+  heading_only.fit_distance = false;
+  EXPECT_EQ(CalibrationBaseOptions(defaults, heading_only).distance.floor_contact.motion_window_m, 0.0);
+  CalibrateOptions bad;
+  bad.floor_motion_window_m = -1.0;
+  EXPECT_NE(bad.Validate().find("floor_motion_window_m"), std::string::npos);
+  CorridorCalibrationFile file;
+  file.options = on;
+  const CorridorCalibrationFile back = CalibrationFileFromYaml(CalibrationFileToYaml(file), "mem");
+  EXPECT_EQ(back.options.distance.floor_contact.motion_window_m, 2.0);
+}
+
 TEST(FitCorridorCalibration, RefusesRunsWithoutTruthOrWithOneHeading) {
   std::vector<CorridorRun> runs = PlantedRuns();
   for (auto& r : runs)

@@ -160,6 +160,13 @@ struct CalibrateOptions {
   // calibration sets, drive-3-00* fused 0.60 / 3.24 -> 0.40 / 2.87 m, the simulator's
   // corridor-0…4 drives 4.12 / 2.78 -> 4.16 / 2.63 m.
   int ttc_cell_nearest = 8;
+  // The floor contact's motion test (corridor::FloorContactOptions::motion_window_m): written to
+  // the options unless the base options set one (then theirs); 0 = keep the base's (off by
+  // default). 2 m, with the test's other constants at their defaults (0.5 row, 80 % of at least 5
+  // readings), chosen on the calibration drives drive-3-00* and the simulator's drives
+  // (docs/calibration.md, session 14): drive-3-00* fused 0.05 / 0.78 -> 0.05 / 0.60 m at 0.3–5 /
+  // 5–15 m (offline replica).
+  double floor_motion_window_m = 2.0;
   // Time to contact's own finer image (corridor::DistanceOptions::ttc_glance_scale), used for the
   // fit's own run and written to the options unless the base options set one (then theirs);
   // 1 = keep the base's.
