@@ -3,7 +3,9 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -113,8 +115,34 @@ void Run(const CalibrateCliOptions& opt) {
       best_file = std::move(file);
     }
   }
-  const eval::CorridorCalibrationFile& file = *best_file;
+  eval::CorridorCalibrationFile& file = *best_file;
   if (candidates.size() > 1) std::cout << fmt::format("  ttc scale chosen: {:g}\n", best_scale);
+  // The floor contact's motion test that calibration turned on stays only where it lowers the
+  // fused distance's RMSE on these sequences (eval::KeepFloorMotion): the written options run with
+  // and without it.
+  std::optional<std::pair<eval::CueRmse, eval::CueRmse>> motion_check;
+  if (fit.fit_distance && file.options.distance.floor_contact.motion_window_m > 0.0 &&
+      base_in.distance.floor_contact.motion_window_m == 0.0) {
+    eval::CorridorRunOptions with_opt;
+    with_opt.perception = file.options;
+    with_opt.record = file.record;
+    with_opt.gated_pass = false;
+    eval::CorridorRunOptions without_opt = with_opt;
+    without_opt.perception.distance.floor_contact.motion_window_m = 0.0;
+    std::vector<eval::CorridorRun> with_runs, without_runs;
+    ProgressBar bar("calibrate (floor motion test)", 2 * total);
+    std::size_t done = 0;
+    for (const io::Sequence& s : seqs) {
+      with_runs.push_back(eval::RunCorridorSequence(s, with_opt, [&](std::size_t i) { bar.Update(done + i); }));
+      done += s.Size();
+      without_runs.push_back(eval::RunCorridorSequence(s, without_opt, [&](std::size_t i) { bar.Update(done + i); }));
+      done += s.Size();
+    }
+    bar.Finish();
+    motion_check.emplace(eval::FusedDistanceRmse(with_runs, fit), eval::FusedDistanceRmse(without_runs, fit));
+    if (!eval::KeepFloorMotion(motion_check->first, motion_check->second))
+      file.options.distance.floor_contact.motion_window_m = 0.0;
+  }
   eval::SaveCalibrationFile(opt.out, file);
 
   std::cout << fmt::format("calibrated on {} sequences ({} frames) -> {}\n", seqs.size(), total, opt.out);
@@ -143,6 +171,12 @@ void Run(const CalibrateCliOptions& opt) {
     std::cout << fmt::format("  fused distance: {} (rmse {:.2f} m on these sequences); none when its sigma > {:.2f} m "
                              "(0 = no limit)\n",
                              fused.empty() ? "no cue" : fused, file.record.fused_distance_rmse_m, d.fused_max_std_m);
+    if (motion_check)
+      std::cout << fmt::format("  floor contact's motion test: fused rmse {:.2f} m on {} frames with it, {:.2f} m on {} "
+                               "without: {}\n",
+                               motion_check->first.rmse_m, motion_check->first.answered, motion_check->second.rmse_m,
+                               motion_check->second.answered,
+                               d.floor_contact.motion_window_m > 0.0 ? "kept" : "off");
   }
 }
 

@@ -439,6 +439,24 @@ CueRmse TtcCalibrationRmse(const std::vector<CorridorRun>& runs, const Calibrate
   return out;
 }
 
+CueRmse FusedDistanceRmse(const std::vector<CorridorRun>& runs, const CalibrateOptions& options) {
+  CueRmse out;
+  double sq = 0.0;
+  for (const CorridorFrame* f : FusionFrames(runs, options)) {
+    ++out.frames;
+    if (f->fused_dist_m) {
+      sq += (*f->fused_dist_m - *f->gt.dist_end_m) * (*f->fused_dist_m - *f->gt.dist_end_m);
+      ++out.answered;
+    }
+  }
+  if (out.answered > 0) out.rmse_m = std::sqrt(sq / static_cast<double>(out.answered));
+  return out;
+}
+
+bool KeepFloorMotion(const CueRmse& with, const CueRmse& without) {
+  return with.answered >= without.answered && with.rmse_m < without.rmse_m;
+}
+
 void ChooseDistanceFusion(const std::vector<CorridorRun>& runs, const CalibrateOptions& options,
                           CorridorCalibrationFile& out) {
   corridor::DistanceOptions& d = out.options.distance;

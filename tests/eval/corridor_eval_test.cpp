@@ -368,6 +368,38 @@ TEST(CalibrationBaseOptions, TurnsTheFloorMotionTestOnUnlessTheBaseSetsOneOrNoDi
   EXPECT_EQ(back.options.distance.floor_contact.motion_window_m, 2.0);
 }
 
+// The fused distance's RMSE over the judged frames (driving forward, truth within the window and
+// up to fusion_max_truth_m): frames off by 1 m and 3 m give sqrt(5); a frame without a fused
+// distance counts in `frames`, not in `answered`; a frame beyond 15 m or standing is not judged.
+TEST(FusedDistanceRmse, JudgesTheFusionFramesOnly) {
+  std::vector<CorridorRun> runs(1);
+  auto add = [&runs](double truth, std::optional<double> fused, bool forward) {
+    CorridorFrame f;
+    f.gt.dist_end_m = truth;
+    f.fused_dist_m = fused;
+    f.moving_forward = forward;
+    runs[0].frames.push_back(f);
+  };
+  add(10.0, 11.0, true);
+  add(5.0, 2.0, true);
+  add(4.0, std::nullopt, true);
+  add(20.0, 0.0, true);   // beyond fusion_max_truth_m (15 m)
+  add(6.0, 60.0, false);  // standing
+  const CueRmse r = FusedDistanceRmse(runs, CalibrateOptions{});
+  EXPECT_EQ(r.frames, 3u);
+  EXPECT_EQ(r.answered, 2u);
+  EXPECT_NEAR(r.rmse_m, std::sqrt(5.0), 1e-12);
+  EXPECT_TRUE(std::isinf(FusedDistanceRmse({}, CalibrateOptions{}).rmse_m));
+}
+
+TEST(KeepFloorMotion, OnlyWhenItLowersTheFusedRmseWithoutLosingFrames) {
+  const CueRmse without{2.0, 90, 100};
+  EXPECT_TRUE(KeepFloorMotion({1.5, 90, 100}, without));
+  EXPECT_FALSE(KeepFloorMotion({2.0, 90, 100}, without));  // no gain
+  EXPECT_FALSE(KeepFloorMotion({2.5, 90, 100}, without));
+  EXPECT_FALSE(KeepFloorMotion({1.0, 89, 100}, without));  // fewer frames answered
+}
+
 TEST(FitCorridorCalibration, RefusesRunsWithoutTruthOrWithOneHeading) {
   std::vector<CorridorRun> runs = PlantedRuns();
   for (auto& r : runs)

@@ -216,6 +216,17 @@ struct CueRmse {
 CueRmse TtcCalibrationRmse(const std::vector<CorridorRun>& runs, const CalibrateOptions& options,
                            const CorridorCalibrationFile& file);
 
+// The Perceiver's fused distance's RMSE (CorridorFrame::fused_dist_m) on the frames
+// ChooseDistanceFusion judges; `answered` of `frames` had one (rmse_m infinite when none).
+CueRmse FusedDistanceRmse(const std::vector<CorridorRun>& runs, const CalibrateOptions& options);
+
+// Whether `squint calibrate` keeps the floor contact's motion test (floor_motion_window_m) that it
+// turned on: runs of the calibration drives with the written options `with` it and `without` it
+// (FusedDistanceRmse). Kept when it lowers the fused RMSE and answers on at least as many frames
+// (the override replaces an estimate, it adds none where the cues gave none), as for
+// fused_max_std_m: a choice judged on the calibration's own drives.
+bool KeepFloorMotion(const CueRmse& with, const CueRmse& without);
+
 // The options `squint calibrate` measures with and writes: `base` with the choices above
 // applied (the far-structure cells when distance is fitted and the base has none).
 corridor::CorridorOptions CalibrationBaseOptions(const corridor::CorridorOptions& base,
