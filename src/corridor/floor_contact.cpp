@@ -40,9 +40,30 @@ std::optional<double> FloorContact::BoundaryRow(const PixelView& frame, int u) {
   }
   // d(v) = |p(v + 1) - p(v)|: the edge between rows v and v + 1.
   auto step = [&](int v) { return std::abs(profile_[static_cast<std::size_t>(v + 1)] - profile_[static_cast<std::size_t>(v)]); };
+  // The signed change p(v + 1) - p(v) times `sign`.
+  auto signed_step = [&](int v, double sign) {
+    return sign * (profile_[static_cast<std::size_t>(v + 1)] - profile_[static_cast<std::size_t>(v)]);
+  };
   for (int v = top_row_ + 1; v < h - 2; ++v) {
     if (step(v) < options_.min_step) continue;
     int best = v;
+    if (options_.refine_same_sign) {
+      // Only changes of the first one's sign, up to the first of the other sign (the far side of
+      // a thin line is not the edge).
+      const double sign = signed_step(v, 1.0) > 0.0 ? 1.0 : -1.0;
+      for (int j = v + 1; j < std::min(v + 3, h - 2); ++j) {
+        if (!(signed_step(j, sign) > 0.0)) break;
+        if (step(j) > step(best)) best = j;
+      }
+      double off = 0.0;
+      if (best > top_row_ && best + 1 < h - 1) {
+        const double a = std::max(0.0, signed_step(best - 1, sign)), b = signed_step(best, sign),
+                     c = std::max(0.0, signed_step(best + 1, sign));
+        const double den = a - 2.0 * b + c;
+        if (den != 0.0) off = std::clamp(0.5 * (a - c) / den, -0.5, 0.5);
+      }
+      return best + 0.5 + off;
+    }
     for (int j = v + 1; j < std::min(v + 3, h - 2); ++j)
       if (step(j) > step(best)) best = j;
     double off = 0.0;

@@ -332,6 +332,7 @@ corridor::CorridorOptions CalibrationBaseOptions(const corridor::CorridorOptions
     out.distance.ttc_glance_scale = options.ttc_glance_scale;
   if (options.fit_distance && options.floor_motion_window_m > 0.0 && base.distance.floor_contact.motion_window_m == 0.0)
     out.distance.floor_contact.motion_window_m = options.floor_motion_window_m;
+  if (options.fit_distance && options.floor_refine_same_sign) out.distance.floor_contact.refine_same_sign = true;
   return out;
 }
 

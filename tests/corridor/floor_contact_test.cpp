@@ -125,6 +125,46 @@ TEST(FloorContact, PerceiverFusesItOnlyWhenTheCuesAgree) {
   }
 }
 
+// A plain wall `wall_m` ahead whose foot is a dark contact shadow on the floor, `shadow_m` deep:
+// the wall (grey `wall`) steps down into the shadow (`shadow`) at the foot, the shadow steps up to
+// the floor (`floor`) a row or two below, a stronger step than the foot's.
+std::vector<std::uint8_t> ShadowFrame(const CameraModel& cam, double wall_m, double shadow_m, int floor, int shadow,
+                                      int wall) {
+  std::vector<std::uint8_t> px(static_cast<std::size_t>(cam.width * cam.height));
+  for (int v = 0; v < cam.height; ++v)
+    for (int u = 0; u < cam.width; ++u) {
+      const Eigen::Vector3d ray = cam.PixelRayRobot({static_cast<double>(u), static_cast<double>(v)});
+      int g = wall;
+      if (ray.z() < 0.0) {
+        const double x = cam.height_m / -ray.z() * ray.x();  // the floor point's distance ahead
+        if (x < wall_m) g = x < wall_m - shadow_m ? floor : shadow;
+      }
+      px[static_cast<std::size_t>(v * cam.width + u)] = static_cast<std::uint8_t>(g);
+    }
+  return px;
+}
+
+// By default the refinement moves to the shadow's stronger lower edge (on the floor, nearer than
+// the wall); with refine_same_sign it keeps the foot.
+TEST(FloorContact, SameSignRefinementKeepsTheFootAboveAContactShadow) {
+  const CameraModel cam = Camera(-6.0);
+  FloorContactOptions same;
+  same.refine_same_sign = true;
+  FloorContact any_sign(cam, FloorContactOptions{}), same_sign(cam, same);
+  for (const double d : {5.0, 6.0, 8.0}) {
+    const auto px = ShadowFrame(cam, d, 0.3, 190, 110, 170);
+    const std::optional<double> a = any_sign.Measure(View(px, cam));
+    const std::optional<double> b = same_sign.Measure(View(px, cam));
+    ASSERT_TRUE(a && b) << d;
+    const double row_m = d * d / (cam.height_m * cam.fy);  // one row near the foot, metres
+    EXPECT_NEAR(*b, d, 0.5 * row_m) << d;
+    EXPECT_LT(*a, d - 0.15) << d;  // the shadow's far side: on the floor, nearer
+  }
+  // Without a shadow both read the plain wall alike.
+  const auto plain = WallFrame(cam, 6.0, 90, 170);
+  EXPECT_NEAR(*same_sign.Measure(View(plain, cam)), *any_sign.Measure(View(plain, cam)), 0.2);
+}
+
 FloorContactOptions MotionOptions() {
   FloorContactOptions o;
   o.motion_window_m = 2.0;  // 0.5 row, 80 % of at least 5 readings: the defaults

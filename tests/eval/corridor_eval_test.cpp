@@ -344,7 +344,7 @@ TEST(CalibrationBaseOptions, TurnsTheFarStructureCellsOnUnlessTheBaseSetsThemOrN
   EXPECT_EQ(back.options.distance.ttc_cell_nearest, 8);
 }
 
-TEST(CalibrationBaseOptions, TurnsTheFloorMotionTestOnUnlessTheBaseSetsOneOrNoDistanceIsFitted) {
+TEST(CalibrationBaseOptions, TurnsTheFloorMotionTestAndSameSignRefinementOnUnlessTheBaseSetsThemOrNoDistanceIsFitted) {
   const corridor::CorridorOptions defaults;
   EXPECT_EQ(defaults.distance.floor_contact.motion_window_m, 0.0);  // the Perceiver's default: off
   const corridor::CorridorOptions on = CalibrationBaseOptions(defaults, {});
@@ -359,6 +359,12 @@ TEST(CalibrationBaseOptions, TurnsTheFloorMotionTestOnUnlessTheBaseSetsOneOrNoDi
   CalibrateOptions heading_only;
   heading_only.fit_distance = false;
   EXPECT_EQ(CalibrationBaseOptions(defaults, heading_only).distance.floor_contact.motion_window_m, 0.0);
+  EXPECT_FALSE(defaults.distance.floor_contact.refine_same_sign);  // the Perceiver's default
+  EXPECT_TRUE(on.distance.floor_contact.refine_same_sign);
+  CalibrateOptions keep_base;
+  keep_base.floor_refine_same_sign = false;
+  EXPECT_FALSE(CalibrationBaseOptions(defaults, keep_base).distance.floor_contact.refine_same_sign);
+  EXPECT_FALSE(CalibrationBaseOptions(defaults, heading_only).distance.floor_contact.refine_same_sign);
   CalibrateOptions bad;
   bad.floor_motion_window_m = -1.0;
   EXPECT_NE(bad.Validate().find("floor_motion_window_m"), std::string::npos);

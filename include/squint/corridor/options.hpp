@@ -191,6 +191,15 @@ struct FloorContactOptions {
   double motion_tol_rows = 0.5;
   double motion_min_fraction = 0.8;
   int motion_min_readings = 5;
+  // The refinement to the strongest change in the next 2 rows considers only changes of the
+  // first one's sign and stops at the first of the other sign; the sub-pixel parabola counts an
+  // opposite-signed neighbour as 0 (false, the default: any sign; `squint calibrate` writes true
+  // where it lowers the fused RMSE on its drives). On the ray-traced drives the end wall's foot
+  // is a thin dark line one or two rows high (a contact shadow): its lower side is the opposite
+  // step, often the stronger, and the refinement took it, a row below the foot on the floor
+  // (drive-3-00c/r: mean row error +0.40 / +0.57, σ 0.75 / 0.91 rows at 5–15 m; with the sign
+  // kept +0.02 / +0.10, σ 0.53 / 0.58; docs/calibration.md, session 14).
+  bool refine_same_sign = false;
   std::string Validate() const;
 };
 

@@ -167,6 +167,11 @@ struct CalibrateOptions {
   // (docs/calibration.md, session 14): drive-3-00* fused 0.05 / 0.78 -> 0.05 / 0.60 m at 0.3–5 /
   // 5–15 m (offline replica).
   double floor_motion_window_m = 2.0;
+  // The floor contact's same-sign refinement (corridor::FloorContactOptions::refine_same_sign):
+  // turned on in the written options unless the base options have it on already; false = keep
+  // the base's. `squint calibrate` keeps it only where it lowers the fused RMSE on its own drives
+  // (KeepFloorMotion's rule; docs/calibration.md, session 14).
+  bool floor_refine_same_sign = true;
   // Time to contact's own finer image (corridor::DistanceOptions::ttc_glance_scale), used for the
   // fit's own run and written to the options unless the base options set one (then theirs);
   // 1 = keep the base's.
@@ -220,11 +225,12 @@ CueRmse TtcCalibrationRmse(const std::vector<CorridorRun>& runs, const Calibrate
 // ChooseDistanceFusion judges; `answered` of `frames` had one (rmse_m infinite when none).
 CueRmse FusedDistanceRmse(const std::vector<CorridorRun>& runs, const CalibrateOptions& options);
 
-// Whether `squint calibrate` keeps the floor contact's motion test (floor_motion_window_m) that it
-// turned on: runs of the calibration drives with the written options `with` it and `without` it
-// (FusedDistanceRmse). Kept when it lowers the fused RMSE and answers on at least as many frames
-// (the override replaces an estimate, it adds none where the cues gave none), as for
-// fused_max_std_m: a choice judged on the calibration's own drives.
+// Whether `squint calibrate` keeps a floor-contact option that it turned on (the motion test,
+// floor_motion_window_m; the same-sign refinement, floor_refine_same_sign): runs of the
+// calibration sequences with the written options `with` it and `without` it (FusedDistanceRmse).
+// Kept when it lowers the fused RMSE and answers on at least as many frames (the floor contact
+// replaces an estimate, it adds none where the cues gave none), as for fused_max_std_m: a choice
+// judged on the calibration's own drives.
 bool KeepFloorMotion(const CueRmse& with, const CueRmse& without);
 
 // The options `squint calibrate` measures with and writes: `base` with the choices above
