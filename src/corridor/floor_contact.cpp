@@ -115,6 +115,7 @@ bool FloorMotionCheck::Update(double travel_m, std::optional<double> reading) {
     head_ = (head_ + 1) % kCap;
     travel_[static_cast<std::size_t>(head_)] = travel_m;
     reading_[static_cast<std::size_t>(head_)] = *reading;
+    row_[static_cast<std::size_t>(head_)] = FloorRow(*reading);
     count_ = std::min(count_ + 1, kCap);
   }
   if (!reading) return false;
@@ -133,7 +134,7 @@ bool FloorMotionCheck::Update(double travel_m, std::optional<double> reading) {
   for (int k = 0; k < n; ++k) {
     const auto idx = static_cast<std::size_t>(((head_ - k) % kCap + kCap) % kCap);
     const double predicted = end - travel_[idx];
-    if (predicted > 0.0 && std::abs(FloorRow(reading_[idx]) - FloorRow(predicted)) <= options_.motion_tol_rows) ++inliers;
+    if (predicted > 0.0 && std::abs(row_[idx] - FloorRow(predicted)) <= options_.motion_tol_rows) ++inliers;
   }
   return inliers >= options_.motion_min_fraction * n;
 }

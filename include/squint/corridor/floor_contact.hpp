@@ -68,6 +68,7 @@ class FloorMotionCheck {
   FloorContactOptions options_;
   std::array<double, kMaxFloorMotionReadings> travel_{};
   std::array<double, kMaxFloorMotionReadings> reading_{};
+  std::array<double, kMaxFloorMotionReadings> row_{};  // FloorRow(reading_), computed once
   std::array<double, kMaxFloorMotionReadings> scratch_{};
   int head_ = 0;   // the newest reading
   int count_ = 0;
