@@ -1,8 +1,10 @@
 // `squint calibrate SEQUENCE... --out calib.yaml`: fits the corridor measures' calibration (paper
 // §5.1–5.2) from sequences with ground truth and writes the calibration YAML (docs/calibration.md).
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -113,8 +115,47 @@ void Run(const CalibrateCliOptions& opt) {
       best_file = std::move(file);
     }
   }
-  const eval::CorridorCalibrationFile& file = *best_file;
+  eval::CorridorCalibrationFile& file = *best_file;
   if (candidates.size() > 1) std::cout << fmt::format("  ttc scale chosen: {:g}\n", best_scale);
+  // The floor-contact options that calibration turned on (the motion test, the same-sign
+  // refinement) stay only where they lower the fused distance's RMSE on these sequences
+  // (eval::KeepFloorMotion): the written options run with and without each, in turn.
+  struct FloorCheck {
+    std::string name;
+    eval::CueRmse with, without;
+    bool kept = false;
+  };
+  std::vector<FloorCheck> floor_checks;
+  const auto check_floor_option = [&](const std::string& name, const std::function<void(corridor::CorridorOptions&)>& off) {
+    eval::CorridorRunOptions with_opt;
+    with_opt.perception = file.options;
+    with_opt.record = file.record;
+    with_opt.gated_pass = false;
+    eval::CorridorRunOptions without_opt = with_opt;
+    off(without_opt.perception);
+    std::vector<eval::CorridorRun> with_runs, without_runs;
+    ProgressBar bar("calibrate (" + name + ")", 2 * total);
+    std::size_t done = 0;
+    for (const io::Sequence& s : seqs) {
+      with_runs.push_back(eval::RunCorridorSequence(s, with_opt, [&](std::size_t i) { bar.Update(done + i); }));
+      done += s.Size();
+      without_runs.push_back(eval::RunCorridorSequence(s, without_opt, [&](std::size_t i) { bar.Update(done + i); }));
+      done += s.Size();
+    }
+    bar.Finish();
+    FloorCheck c{name, eval::FusedDistanceRmse(with_runs, fit), eval::FusedDistanceRmse(without_runs, fit)};
+    c.kept = eval::KeepFloorMotion(c.with, c.without);
+    if (!c.kept) off(file.options);
+    floor_checks.push_back(c);
+  };
+  if (fit.fit_distance && file.options.distance.floor_contact.motion_window_m > 0.0 &&
+      base_in.distance.floor_contact.motion_window_m == 0.0)
+    check_floor_option("floor contact's motion test",
+                       [](corridor::CorridorOptions& o) { o.distance.floor_contact.motion_window_m = 0.0; });
+  if (fit.fit_distance && file.options.distance.floor_contact.refine_same_sign &&
+      !base_in.distance.floor_contact.refine_same_sign)
+    check_floor_option("floor contact's same-sign refinement",
+                       [](corridor::CorridorOptions& o) { o.distance.floor_contact.refine_same_sign = false; });
   eval::SaveCalibrationFile(opt.out, file);
 
   std::cout << fmt::format("calibrated on {} sequences ({} frames) -> {}\n", seqs.size(), total, opt.out);
@@ -143,6 +184,10 @@ void Run(const CalibrateCliOptions& opt) {
     std::cout << fmt::format("  fused distance: {} (rmse {:.2f} m on these sequences); none when its sigma > {:.2f} m "
                              "(0 = no limit)\n",
                              fused.empty() ? "no cue" : fused, file.record.fused_distance_rmse_m, d.fused_max_std_m);
+    for (const FloorCheck& c : floor_checks)
+      std::cout << fmt::format("  {}: fused rmse {:.2f} m on {} frames with it, {:.2f} m on {} without: {}\n", c.name,
+                               c.with.rmse_m, c.with.answered, c.without.rmse_m, c.without.answered,
+                               c.kept ? "kept" : "off");
   }
 }
 
@@ -171,6 +216,13 @@ void Register(CLI::App& root) {
                   "Time to contact's far-structure cells (px) written to the options when the base sets none; "
                   "0 = keep the base's (docs/calibration.md)")
       ->capture_default_str();
+  cmd->add_option("--floor-motion-window-m", opt->fit.floor_motion_window_m,
+                  "The floor contact's motion test over this much travel (m), written to the options when the base "
+                  "sets none; 0 = keep the base's (docs/calibration.md)")
+      ->capture_default_str();
+  cmd->add_flag("--no-floor-same-sign{false}", opt->fit.floor_refine_same_sign,
+                "Keep the base's floor-contact refinement (default: the same-sign refinement is turned on and kept "
+                "where it lowers the fused RMSE on these sequences; docs/calibration.md)");
   cmd->add_option("--ttc-cell-quantile", opt->fit.ttc_cell_quantile,
                   "Quantile of the cells' magnifications that is the estimate")
       ->capture_default_str();

@@ -186,6 +186,11 @@ void ReadDistance(const YAML::Node& node, const std::string& source, corridor::D
     m.Get("max_m", d.floor_contact.max_m);
     m.Get("overrides_fusion", d.floor_contact.overrides_fusion);
     m.Get("agreement_ratio", d.floor_contact.agreement_ratio);
+    m.Get("motion_window_m", d.floor_contact.motion_window_m);
+    m.Get("motion_tol_rows", d.floor_contact.motion_tol_rows);
+    m.Get("motion_min_fraction", d.floor_contact.motion_min_fraction);
+    m.Get("motion_min_readings", d.floor_contact.motion_min_readings);
+    m.Get("refine_same_sign", d.floor_contact.refine_same_sign);
     m.CheckUnknown();
   }
   r.CheckUnknown();
@@ -341,7 +346,11 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
     << "min_step" << YAML::Value << fc.min_step << YAML::Key << "min_column_fraction" << YAML::Value
     << fc.min_column_fraction << YAML::Key << "min_m" << YAML::Value << fc.min_m << YAML::Key << "max_m"
     << YAML::Value << fc.max_m << YAML::Key << "overrides_fusion" << YAML::Value << fc.overrides_fusion
-    << YAML::Key << "agreement_ratio" << YAML::Value << fc.agreement_ratio << YAML::EndMap;
+    << YAML::Key << "agreement_ratio" << YAML::Value << fc.agreement_ratio << YAML::Key << "motion_window_m"
+    << YAML::Value << fc.motion_window_m << YAML::Key << "motion_tol_rows" << YAML::Value << fc.motion_tol_rows
+    << YAML::Key << "motion_min_fraction" << YAML::Value << fc.motion_min_fraction << YAML::Key
+    << "motion_min_readings" << YAML::Value << fc.motion_min_readings << YAML::Key << "refine_same_sign"
+    << YAML::Value << fc.refine_same_sign << YAML::EndMap;
   e << YAML::EndMap;
   e << YAML::Key << "gate" << YAML::Value << YAML::BeginMap << YAML::Key << "enabled" << YAML::Value
     << o.gate.enabled << YAML::Key << "threshold" << YAML::Value << o.gate.threshold << YAML::Key

@@ -40,9 +40,30 @@ std::optional<double> FloorContact::BoundaryRow(const PixelView& frame, int u) {
   }
   // d(v) = |p(v + 1) - p(v)|: the edge between rows v and v + 1.
   auto step = [&](int v) { return std::abs(profile_[static_cast<std::size_t>(v + 1)] - profile_[static_cast<std::size_t>(v)]); };
+  // The signed change p(v + 1) - p(v) times `sign`.
+  auto signed_step = [&](int v, double sign) {
+    return sign * (profile_[static_cast<std::size_t>(v + 1)] - profile_[static_cast<std::size_t>(v)]);
+  };
   for (int v = top_row_ + 1; v < h - 2; ++v) {
     if (step(v) < options_.min_step) continue;
     int best = v;
+    if (options_.refine_same_sign) {
+      // Only changes of the first one's sign, up to the first of the other sign (the far side of
+      // a thin line is not the edge).
+      const double sign = signed_step(v, 1.0) > 0.0 ? 1.0 : -1.0;
+      for (int j = v + 1; j < std::min(v + 3, h - 2); ++j) {
+        if (!(signed_step(j, sign) > 0.0)) break;
+        if (step(j) > step(best)) best = j;
+      }
+      double off = 0.0;
+      if (best > top_row_ && best + 1 < h - 1) {
+        const double a = std::max(0.0, signed_step(best - 1, sign)), b = signed_step(best, sign),
+                     c = std::max(0.0, signed_step(best + 1, sign));
+        const double den = a - 2.0 * b + c;
+        if (den != 0.0) off = std::clamp(0.5 * (a - c) / den, -0.5, 0.5);
+      }
+      return best + 0.5 + off;
+    }
     for (int j = v + 1; j < std::min(v + 3, h - 2); ++j)
       if (step(j) > step(best)) best = j;
     double off = 0.0;
@@ -72,6 +93,50 @@ std::optional<double> FloorContact::Measure(const PixelView& frame) {
   const double med = MedianInPlace(readings_);
   if (!(med >= options_.min_m && med <= options_.max_m)) return std::nullopt;
   return med;
+}
+
+FloorMotionCheck::FloorMotionCheck(const CameraModel& camera, const FloorContactOptions& options)
+    : camera_(camera), options_(options) {
+  if (std::string e = options_.Validate(); !e.empty()) throw Error("floor contact: " + e);
+  if (std::string e = FloorContact::CameraProblem(camera_); !e.empty()) throw Error("floor contact: " + e);
+}
+
+void FloorMotionCheck::Reset() { head_ = count_ = 0; }
+
+double FloorMotionCheck::FloorRow(double dist_m) const {
+  // The ray to the floor point dips atan(h / d) below the horizontal; the optical axis is
+  // pitched by pitch_deg (negative: down), so at d → ∞ this is CameraModel::HorizonRow().
+  return camera_.cy + camera_.fy * std::tan(std::atan2(camera_.height_m, dist_m) + DegToRad(camera_.pitch_deg));
+}
+
+bool FloorMotionCheck::Update(double travel_m, std::optional<double> reading) {
+  constexpr int kCap = kMaxFloorMotionReadings;
+  if (reading) {
+    head_ = (head_ + 1) % kCap;
+    travel_[static_cast<std::size_t>(head_)] = travel_m;
+    reading_[static_cast<std::size_t>(head_)] = *reading;
+    row_[static_cast<std::size_t>(head_)] = FloorRow(*reading);
+    count_ = std::min(count_ + 1, kCap);
+  }
+  if (!reading) return false;
+  // The readings within the window, newest first.
+  int n = 0;
+  double oldest_travel = travel_m;
+  for (int k = 0; k < count_; ++k) {
+    const auto idx = static_cast<std::size_t>(((head_ - k) % kCap + kCap) % kCap);
+    if (travel_m - travel_[idx] > options_.motion_window_m) break;
+    scratch_[static_cast<std::size_t>(n++)] = travel_[idx] + reading_[idx];
+    oldest_travel = travel_[idx];
+  }
+  if (n < options_.motion_min_readings || travel_m - oldest_travel < 0.5 * options_.motion_window_m) return false;
+  const double end = MedianInPlace(std::span<double>(scratch_.data(), static_cast<std::size_t>(n)));
+  int inliers = 0;
+  for (int k = 0; k < n; ++k) {
+    const auto idx = static_cast<std::size_t>(((head_ - k) % kCap + kCap) % kCap);
+    const double predicted = end - travel_[idx];
+    if (predicted > 0.0 && std::abs(row_[idx] - FloorRow(predicted)) <= options_.motion_tol_rows) ++inliers;
+  }
+  return inliers >= options_.motion_min_fraction * n;
 }
 
 }  // namespace squint::corridor

@@ -131,6 +131,13 @@ std::string FloorContactOptions::Validate() const {
   if (!Finite(min_m) || !Finite(max_m) || min_m < 0.0 || max_m <= min_m)
     e << "distance.floor_contact needs 0 <= min_m < max_m; ";
   if (!Finite(agreement_ratio) || agreement_ratio < 0.0) e << "distance.floor_contact.agreement_ratio must be >= 0; ";
+  if (!Finite(motion_window_m) || motion_window_m < 0.0)
+    e << "distance.floor_contact.motion_window_m must be >= 0 (0 = off); ";
+  if (!Finite(motion_tol_rows) || motion_tol_rows <= 0.0) e << "distance.floor_contact.motion_tol_rows must be positive; ";
+  if (!Finite(motion_min_fraction) || motion_min_fraction <= 0.0 || motion_min_fraction > 1.0)
+    e << "distance.floor_contact.motion_min_fraction must be in (0, 1]; ";
+  if (motion_min_readings < 2 || motion_min_readings > kMaxFloorMotionReadings)
+    e << "distance.floor_contact.motion_min_readings must be in [2, " << kMaxFloorMotionReadings << "]; ";
   return e.str();
 }
 

@@ -89,6 +89,8 @@ Perceiver::Perceiver(const Options& options, std::optional<CameraModel> camera)
   }
   if (options_.distance.floor_contact.enabled && camera && FloorContact::CameraProblem(*camera).empty())
     floor_contact_ = std::make_unique<FloorContact>(*camera, options_.distance.floor_contact);
+  if (floor_contact_ && options_.distance.floor_contact.motion_window_m > 0.0)
+    floor_motion_ = std::make_unique<FloorMotionCheck>(*camera, options_.distance.floor_contact);
   distance_measures_[1] = std::make_unique<JeffreyDistance>(options_.distance);
   distance_measures_[2] = std::make_unique<EntropyDistance>(options_.distance);
 }
@@ -109,6 +111,7 @@ void Perceiver::ResetDistanceHistory() {
   travel_m_ = 0.0;
   for (CueWindow& w : cue_windows_) w.count = w.head = 0;
   floor_window_.count = floor_window_.head = 0;
+  if (floor_motion_) floor_motion_->Reset();
   short_window_.count = short_window_.head = 0;
   last_ttc_input_m_.reset();
 }
@@ -324,6 +327,7 @@ PerceptionResult Perceiver::ProcessImpl(const Glance& glance, const Glance& ttc_
     // Measured on processed frames only (the gate's skipped frames return above).
     if (frame) result.dist_floor_raw_m = floor_contact_->Measure(*frame);
     result.dist_floor_m = PushAndMedian(floor_window_, result.dist_floor_raw_m, true);
+    if (floor_motion_) result.dist_floor_moves_as_floor = floor_motion_->Update(travel_m_, result.dist_floor_raw_m);
   }
   Fuse(result);
   FilterHeading(result);
@@ -517,10 +521,11 @@ void Perceiver::Fuse(PerceptionResult& result) const {
   } else if (sw > 0.0) {
     result.dist_end_m = swd / sw;
   }
-  // The end wall's floor contact, where it has a reading, is the answer (FloorContactOptions).
+  // The end wall's floor contact, where it has a reading, is the answer (FloorContactOptions)
+  // when the cues' fused distance agrees with it or its readings move as a floor point does.
   const FloorContactOptions& fc = options_.distance.floor_contact;
   if (fc.overrides_fusion && result.dist_floor_m &&
-      (fc.agreement_ratio <= 0.0 ||
+      (fc.agreement_ratio <= 0.0 || result.dist_floor_moves_as_floor ||
        (result.dist_end_m && std::abs(*result.dist_end_m - *result.dist_floor_m) <= fc.agreement_ratio * *result.dist_end_m))) {
     result.dist_end_m = *result.dist_floor_m;
     for (DistanceMeasureResult& d : result.distance) d.fused = false;

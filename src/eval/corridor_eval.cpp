@@ -309,6 +309,8 @@ std::string CalibrateOptions::Validate() const {
   if (!(ttc_cell_quantile >= 0.0 && ttc_cell_quantile <= 1.0)) return "ttc_cell_quantile must be in [0, 1]";
   if (ttc_cell_nearest < 0 || ttc_cell_nearest > 96) return "ttc_cell_nearest must be in [0, 96]";
   if (!(ttc_glance_scale >= 1.0 && ttc_glance_scale <= 4.0)) return "ttc_glance_scale must be in [1, 4]";
+  if (!(floor_motion_window_m >= 0.0 && std::isfinite(floor_motion_window_m)))
+    return "floor_motion_window_m must be >= 0 (0 = keep the base's)";
   for (double c : ttc_glance_scales)
     if (!(c >= 1.0 && c <= 4.0)) return "every ttc_glance_scales candidate must be in [1, 4]";
   if (!(fusion_max_truth_m > 0.0)) return "fusion_max_truth_m must be positive";
@@ -328,6 +330,9 @@ corridor::CorridorOptions CalibrationBaseOptions(const corridor::CorridorOptions
   }
   if (options.fit_distance && options.ttc_glance_scale != 1.0 && base.distance.ttc_glance_scale == 1.0)
     out.distance.ttc_glance_scale = options.ttc_glance_scale;
+  if (options.fit_distance && options.floor_motion_window_m > 0.0 && base.distance.floor_contact.motion_window_m == 0.0)
+    out.distance.floor_contact.motion_window_m = options.floor_motion_window_m;
+  if (options.fit_distance && options.floor_refine_same_sign) out.distance.floor_contact.refine_same_sign = true;
   return out;
 }
 
@@ -433,6 +438,24 @@ CueRmse TtcCalibrationRmse(const std::vector<CorridorRun>& runs, const Calibrate
   }
   if (out.answered > 0) out.rmse_m = std::sqrt(sq / static_cast<double>(out.answered));
   return out;
+}
+
+CueRmse FusedDistanceRmse(const std::vector<CorridorRun>& runs, const CalibrateOptions& options) {
+  CueRmse out;
+  double sq = 0.0;
+  for (const CorridorFrame* f : FusionFrames(runs, options)) {
+    ++out.frames;
+    if (f->fused_dist_m) {
+      sq += (*f->fused_dist_m - *f->gt.dist_end_m) * (*f->fused_dist_m - *f->gt.dist_end_m);
+      ++out.answered;
+    }
+  }
+  if (out.answered > 0) out.rmse_m = std::sqrt(sq / static_cast<double>(out.answered));
+  return out;
+}
+
+bool KeepFloorMotion(const CueRmse& with, const CueRmse& without) {
+  return with.answered >= without.answered && with.rmse_m < without.rmse_m;
 }
 
 void ChooseDistanceFusion(const std::vector<CorridorRun>& runs, const CalibrateOptions& options,

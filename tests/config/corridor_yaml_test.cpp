@@ -68,6 +68,11 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   o.distance.floor_contact.min_column_fraction = 0.75;
   o.distance.floor_contact.min_m = 0.5;
   o.distance.floor_contact.max_m = 12.5;
+  o.distance.floor_contact.motion_window_m = 1.75;
+  o.distance.floor_contact.motion_tol_rows = 0.75;
+  o.distance.floor_contact.motion_min_fraction = 0.6;
+  o.distance.floor_contact.motion_min_readings = 7;
+  o.distance.floor_contact.refine_same_sign = true;
   o.distance.floor_contact.overrides_fusion = false;
   o.distance.floor_contact.agreement_ratio = 0.25;
   o.gate.threshold = 0.02;
@@ -118,6 +123,11 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   EXPECT_EQ(back.distance.ttc_cell_nearest, 5);
   EXPECT_TRUE(back.distance.ttc_cell_nearest_at_min_window);
   EXPECT_FALSE(back.distance.floor_contact.enabled);
+  EXPECT_EQ(back.distance.floor_contact.motion_window_m, 1.75);
+  EXPECT_EQ(back.distance.floor_contact.motion_tol_rows, 0.75);
+  EXPECT_EQ(back.distance.floor_contact.motion_min_fraction, 0.6);
+  EXPECT_EQ(back.distance.floor_contact.motion_min_readings, 7);
+  EXPECT_TRUE(back.distance.floor_contact.refine_same_sign);
   EXPECT_EQ(back.distance.floor_contact.half_width_deg, 3.5);
   EXPECT_EQ(back.distance.floor_contact.min_step, 7.25);
   EXPECT_EQ(back.distance.floor_contact.min_column_fraction, 0.75);

@@ -1,6 +1,7 @@
 // The end wall's floor contact on constructed frames: a plain wall standing on the floor at a
 // known distance, seen by a known camera, reads that distance; frames without such an edge read
-// nothing; the Perceiver's fusion takes it only when the cues' fused distance agrees.
+// nothing; the Perceiver's fusion takes it only when the cues' fused distance agrees or, with the
+// motion test, when its readings move under the odometry as a floor point does.
 #include "squint/corridor/floor_contact.hpp"
 
 #include <cmath>
@@ -122,6 +123,152 @@ TEST(FloorContact, PerceiverFusesItOnlyWhenTheCuesAgree) {
     if (ratio == 0.0) EXPECT_NEAR(*r.dist_end_m, *r.dist_floor_m, 1e-12);  // no check: it overrides
     else EXPECT_GT(*r.dist_end_m, 10.0);                                  // 20 m against 3.5 m: the cues stand
   }
+}
+
+// A plain wall `wall_m` ahead whose foot is a dark contact shadow on the floor, `shadow_m` deep:
+// the wall (grey `wall`) steps down into the shadow (`shadow`) at the foot, the shadow steps up to
+// the floor (`floor`) a row or two below, a stronger step than the foot's.
+std::vector<std::uint8_t> ShadowFrame(const CameraModel& cam, double wall_m, double shadow_m, int floor, int shadow,
+                                      int wall) {
+  std::vector<std::uint8_t> px(static_cast<std::size_t>(cam.width * cam.height));
+  for (int v = 0; v < cam.height; ++v)
+    for (int u = 0; u < cam.width; ++u) {
+      const Eigen::Vector3d ray = cam.PixelRayRobot({static_cast<double>(u), static_cast<double>(v)});
+      int g = wall;
+      if (ray.z() < 0.0) {
+        const double x = cam.height_m / -ray.z() * ray.x();  // the floor point's distance ahead
+        if (x < wall_m) g = x < wall_m - shadow_m ? floor : shadow;
+      }
+      px[static_cast<std::size_t>(v * cam.width + u)] = static_cast<std::uint8_t>(g);
+    }
+  return px;
+}
+
+// By default the refinement moves to the shadow's stronger lower edge (on the floor, nearer than
+// the wall); with refine_same_sign it keeps the foot.
+TEST(FloorContact, SameSignRefinementKeepsTheFootAboveAContactShadow) {
+  const CameraModel cam = Camera(-6.0);
+  FloorContactOptions same;
+  same.refine_same_sign = true;
+  FloorContact any_sign(cam, FloorContactOptions{}), same_sign(cam, same);
+  for (const double d : {5.0, 6.0, 8.0}) {
+    const auto px = ShadowFrame(cam, d, 0.3, 190, 110, 170);
+    const std::optional<double> a = any_sign.Measure(View(px, cam));
+    const std::optional<double> b = same_sign.Measure(View(px, cam));
+    ASSERT_TRUE(a && b) << d;
+    const double row_m = d * d / (cam.height_m * cam.fy);  // one row near the foot, metres
+    EXPECT_NEAR(*b, d, 0.5 * row_m) << d;
+    EXPECT_LT(*a, d - 0.15) << d;  // the shadow's far side: on the floor, nearer
+  }
+  // Without a shadow both read the plain wall alike.
+  const auto plain = WallFrame(cam, 6.0, 90, 170);
+  EXPECT_NEAR(*same_sign.Measure(View(plain, cam)), *any_sign.Measure(View(plain, cam)), 0.2);
+}
+
+FloorContactOptions MotionOptions() {
+  FloorContactOptions o;
+  o.motion_window_m = 2.0;  // 0.5 row, 80 % of at least 5 readings: the defaults
+  return o;
+}
+
+// The row of the floor at distance d: at d → ∞ the horizon; at the camera's own pitch angle
+// below it, the image centre.
+TEST(FloorMotionCheck, FloorRowIsThePinholeProjection) {
+  const CameraModel cam = Camera(-6.0);
+  const FloorMotionCheck check(cam, MotionOptions());
+  EXPECT_NEAR(check.FloorRow(1e9), cam.HorizonRow(), 1e-6);
+  EXPECT_NEAR(check.FloorRow(cam.height_m / std::tan(6.0 * M_PI / 180.0)), cam.cy, 1e-9);
+  // Pitch 0: row = cy + fy · h / d.
+  const FloorMotionCheck level(Camera(0.0), MotionOptions());
+  EXPECT_NEAR(level.FloorRow(5.0), 59.5 + 188.0 * 0.95 / 5.0, 1e-9);
+}
+
+// Readings of one floor point 12 m ahead, 0.1 m per frame: consistent once they span half the
+// window (1 m) with at least 5 readings; the same with every sixth reading several rows off (4 of
+// the 21 readings in the 2 m window, 19 %), not with every third (7 of 21).
+TEST(FloorMotionCheck, AFloorPointPassesOnceTheWindowIsSpanned) {
+  const CameraModel cam = Camera(-6.0);
+  for (const int outlier_every : {0, 6, 3}) {
+    FloorMotionCheck check(cam, MotionOptions());
+    bool last = false;
+    for (int i = 0; i <= 30; ++i) {
+      const double t = 0.1 * i;
+      double r = 12.0 - t;
+      if (outlier_every > 0 && i % outlier_every == 0) r *= 0.7;  // several rows nearer
+      last = check.Update(t, r);
+      if (i < 10) EXPECT_FALSE(last) << i;  // the readings span less than 1 m
+    }
+    EXPECT_EQ(last, outlier_every != 3) << outlier_every;
+  }
+}
+
+// A feature at height z on a wall D ahead reads (D − t) · h / (h − z) on the floor model: 0.3 m
+// up a wall 12 m ahead reads 17.5 m and closes 1.46 times as fast as the floor; a detector
+// alternating between two brick courses scatters. Neither passes. Nor does a frame without a
+// reading, and a Reset forgets the window.
+TEST(FloorMotionCheck, AWallFeatureOrAJumpingEdgeFails) {
+  const CameraModel cam = Camera(-6.0);
+  const double h = cam.height_m;
+  FloorMotionCheck course(cam, MotionOptions()), jumping(cam, MotionOptions()), floor(cam, MotionOptions());
+  bool c = true, j = true, f = false;
+  for (int i = 0; i <= 20; ++i) {
+    const double t = 0.1 * i, d = 8.0 - t;
+    c = course.Update(t, d * h / (h - 0.3));
+    j = jumping.Update(t, d * h / (h - (i % 2 == 0 ? 0.1 : 0.3)));
+    f = floor.Update(t, d);
+  }
+  EXPECT_FALSE(c);
+  EXPECT_FALSE(j);
+  EXPECT_TRUE(f);
+  EXPECT_FALSE(floor.Update(2.1, std::nullopt));  // this frame has no reading
+  floor.Reset();
+  EXPECT_FALSE(floor.Update(2.2, 5.8));
+}
+
+// With the motion test on, the floor contact becomes the fused distance although the cues'
+// fused distance (Jeffrey's constant 20 m) disagrees, once its readings span half the window.
+TEST(FloorContact, PerceiverFusesItWhenItMovesAsTheFloor) {
+  const CameraModel cam = Camera(-6.0);
+  CorridorOptions o;
+  o.gate.enabled = false;
+  o.distance.floor_contact.motion_window_m = 1.0;
+  o.distance.enabled = {false, true, false};
+  o.distance.alpha2 = 0.0;
+  o.distance.beta2 = 20.0;
+  Perceiver perceiver(o, cam);
+  PerceptionResult r;
+  for (int i = 0; i < 12; ++i) {
+    const double d = 5.0 - 0.1 * i;
+    const auto px = WallFrame(cam, d, 90 + i, 170 - i);
+    r = perceiver.Process(View(px, cam), 0.1, 0.25);
+    ASSERT_TRUE(r.dist_floor_m);
+    if (i == 0) continue;  // no previous frame: no Jeffrey yet
+    ASSERT_TRUE(r.dist_end_m);
+    if (i < 5) {  // less than 0.5 m of readings: the cues stand
+      EXPECT_FALSE(r.dist_floor_moves_as_floor) << i;
+      EXPECT_GT(*r.dist_end_m, 10.0) << i;
+    }
+  }
+  EXPECT_TRUE(r.dist_floor_moves_as_floor);
+  EXPECT_NEAR(*r.dist_end_m, *r.dist_floor_m, 1e-12);
+  EXPECT_NEAR(*r.dist_end_m, 3.9, 0.05);
+}
+
+TEST(FloorContactOptions, MotionTestOptionsAreValidated) {
+  FloorContactOptions o = MotionOptions();
+  EXPECT_TRUE(o.Validate().empty());
+  o.motion_window_m = -1.0;
+  EXPECT_NE(o.Validate().find("motion_window_m"), std::string::npos);
+  o = MotionOptions();
+  o.motion_tol_rows = 0.0;
+  EXPECT_NE(o.Validate().find("motion_tol_rows"), std::string::npos);
+  o = MotionOptions();
+  o.motion_min_fraction = 1.5;
+  EXPECT_NE(o.Validate().find("motion_min_fraction"), std::string::npos);
+  o = MotionOptions();
+  o.motion_min_readings = 1;
+  EXPECT_NE(o.Validate().find("motion_min_readings"), std::string::npos);
+  EXPECT_THROW(FloorMotionCheck(Camera(0.0), o), Error);
 }
 
 }  // namespace

@@ -166,8 +166,8 @@ TEST(Perceiver, FallbackScaleWithoutIntrinsics) {
 }
 
 TEST(Perceiver, NoHeapAllocationPerGlanceInSteadyState) {
-  // Also with the heading filter, the far-structure cells and time to contact's own finer image
-  // (calibrated options).
+  // Also with the heading filter, the far-structure cells, time to contact's own finer image and
+  // the floor contact's motion test and same-sign refinement (calibrated options).
   for (const bool filter : {false, true}) {
     CorridorOptions options;
     options.gate.enabled = false;
@@ -175,6 +175,8 @@ TEST(Perceiver, NoHeapAllocationPerGlanceInSteadyState) {
     options.heading.filter.enabled = filter;
     if (filter) options.distance.ttc_cell_px = 6.0;
     if (filter) options.distance.ttc_glance_scale = 2.0;  // time to contact's own 64×48 image
+    if (filter) options.distance.floor_contact.motion_window_m = 2.0;
+    if (filter) options.distance.floor_contact.refine_same_sign = true;
     Perceiver perceiver(options, Camera160());
     const auto a = Frame(85.0, 59.5), b = Frame(86.0, 59.5, 4);
     perceiver.Process(View(a), std::nullopt, 0.1);  // warm-up: tables built once

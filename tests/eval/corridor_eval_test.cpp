@@ -344,6 +344,68 @@ TEST(CalibrationBaseOptions, TurnsTheFarStructureCellsOnUnlessTheBaseSetsThemOrN
   EXPECT_EQ(back.options.distance.ttc_cell_nearest, 8);
 }
 
+TEST(CalibrationBaseOptions, TurnsTheFloorMotionTestAndSameSignRefinementOnUnlessTheBaseSetsThemOrNoDistanceIsFitted) {
+  const corridor::CorridorOptions defaults;
+  EXPECT_EQ(defaults.distance.floor_contact.motion_window_m, 0.0);  // the Perceiver's default: off
+  const corridor::CorridorOptions on = CalibrationBaseOptions(defaults, {});
+  EXPECT_EQ(on.distance.floor_contact.motion_window_m, 2.0);
+  EXPECT_TRUE(on.Validate().empty());
+  corridor::CorridorOptions mine;
+  mine.distance.floor_contact.motion_window_m = 1.5;
+  EXPECT_EQ(CalibrationBaseOptions(mine, {}).distance.floor_contact.motion_window_m, 1.5);
+  CalibrateOptions none;
+  none.floor_motion_window_m = 0.0;
+  EXPECT_EQ(CalibrationBaseOptions(defaults, none).distance.floor_contact.motion_window_m, 0.0);
+  CalibrateOptions heading_only;
+  heading_only.fit_distance = false;
+  EXPECT_EQ(CalibrationBaseOptions(defaults, heading_only).distance.floor_contact.motion_window_m, 0.0);
+  EXPECT_FALSE(defaults.distance.floor_contact.refine_same_sign);  // the Perceiver's default
+  EXPECT_TRUE(on.distance.floor_contact.refine_same_sign);
+  CalibrateOptions keep_base;
+  keep_base.floor_refine_same_sign = false;
+  EXPECT_FALSE(CalibrationBaseOptions(defaults, keep_base).distance.floor_contact.refine_same_sign);
+  EXPECT_FALSE(CalibrationBaseOptions(defaults, heading_only).distance.floor_contact.refine_same_sign);
+  CalibrateOptions bad;
+  bad.floor_motion_window_m = -1.0;
+  EXPECT_NE(bad.Validate().find("floor_motion_window_m"), std::string::npos);
+  CorridorCalibrationFile file;
+  file.options = on;
+  const CorridorCalibrationFile back = CalibrationFileFromYaml(CalibrationFileToYaml(file), "mem");
+  EXPECT_EQ(back.options.distance.floor_contact.motion_window_m, 2.0);
+}
+
+// The fused distance's RMSE over the judged frames (driving forward, truth within the window and
+// up to fusion_max_truth_m): frames off by 1 m and 3 m give sqrt(5); a frame without a fused
+// distance counts in `frames`, not in `answered`; a frame beyond 15 m or standing is not judged.
+TEST(FusedDistanceRmse, JudgesTheFusionFramesOnly) {
+  std::vector<CorridorRun> runs(1);
+  auto add = [&runs](double truth, std::optional<double> fused, bool forward) {
+    CorridorFrame f;
+    f.gt.dist_end_m = truth;
+    f.fused_dist_m = fused;
+    f.moving_forward = forward;
+    runs[0].frames.push_back(f);
+  };
+  add(10.0, 11.0, true);
+  add(5.0, 2.0, true);
+  add(4.0, std::nullopt, true);
+  add(20.0, 0.0, true);   // beyond fusion_max_truth_m (15 m)
+  add(6.0, 60.0, false);  // standing
+  const CueRmse r = FusedDistanceRmse(runs, CalibrateOptions{});
+  EXPECT_EQ(r.frames, 3u);
+  EXPECT_EQ(r.answered, 2u);
+  EXPECT_NEAR(r.rmse_m, std::sqrt(5.0), 1e-12);
+  EXPECT_TRUE(std::isinf(FusedDistanceRmse({}, CalibrateOptions{}).rmse_m));
+}
+
+TEST(KeepFloorMotion, OnlyWhenItLowersTheFusedRmseWithoutLosingFrames) {
+  const CueRmse without{2.0, 90, 100};
+  EXPECT_TRUE(KeepFloorMotion({1.5, 90, 100}, without));
+  EXPECT_FALSE(KeepFloorMotion({2.0, 90, 100}, without));  // no gain
+  EXPECT_FALSE(KeepFloorMotion({2.5, 90, 100}, without));
+  EXPECT_FALSE(KeepFloorMotion({1.0, 89, 100}, without));  // fewer frames answered
+}
+
 TEST(FitCorridorCalibration, RefusesRunsWithoutTruthOrWithOneHeading) {
   std::vector<CorridorRun> runs = PlantedRuns();
   for (auto& r : runs)

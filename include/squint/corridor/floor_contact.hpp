@@ -2,6 +2,7 @@
 // camera frame (FloorContactOptions in options.hpp says how and why).
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,6 +38,40 @@ class FloorContact {
   int u_last_ = 0;
   std::vector<double> profile_;
   std::vector<double> readings_;
+};
+
+// The floor contact's motion test (FloorContactOptions::motion_window_m): whether the recent raw
+// readings move under the odometry as one point on the floor does. A floor point at distance E
+// from where the travel was counted is read E − t at travel t; a feature at height z on a wall
+// at D reads (D − t) · h / (h − z), which shrinks faster, and a detector that jumps between
+// brick courses scatters. The test is in image rows, the detector's own resolution: far away
+// a row spans metres, near the end centimetres.
+class FloorMotionCheck {
+ public:
+  // `camera`: as FloorContact's (intrinsics, height, pitch; throws squint::Error otherwise).
+  FloorMotionCheck(const CameraModel& camera, const FloorContactOptions& options);
+  // Forgets every reading (a restart of the distance history: standing, turning in place).
+  void Reset();
+  // Adds this frame: `travel_m`, the odometry travel accumulated since the last Reset (not
+  // decreasing); `reading`, its raw floor-contact reading in metres, or none. Returns true when
+  // this frame has a reading and the readings within the last motion_window_m of travel pass:
+  // at least motion_min_readings of them, the oldest at least half the window back, and at
+  // least motion_min_fraction of them inliers, i.e. within motion_tol_rows of the row of the
+  // floor point at E − t, E the median of travel + reading. Allocates nothing.
+  bool Update(double travel_m, std::optional<double> reading);
+  // The row (pixel-centre coordinates, sub-pixel) where the floor `dist_m` ahead of the camera
+  // appears; rows grow downward from the horizon.
+  double FloorRow(double dist_m) const;
+
+ private:
+  CameraModel camera_;
+  FloorContactOptions options_;
+  std::array<double, kMaxFloorMotionReadings> travel_{};
+  std::array<double, kMaxFloorMotionReadings> reading_{};
+  std::array<double, kMaxFloorMotionReadings> row_{};  // FloorRow(reading_), computed once
+  std::array<double, kMaxFloorMotionReadings> scratch_{};
+  int head_ = 0;   // the newest reading
+  int count_ = 0;
 };
 
 }  // namespace squint::corridor

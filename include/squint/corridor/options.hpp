@@ -157,6 +157,10 @@ struct HeadingOptions {
 // (overrides_fusion): a floor point at a known camera height is a measurement of geometry, not
 // of image change, and on the calibration drives drive-3-00* it is within a few centimetres up to
 // 10 m (docs/calibration.md, session 8); elsewhere the three cues' fusion answers.
+// The floor contact's motion test keeps at most this many readings (at 30 Hz, 2 m at 0.4 m/s is
+// 150 frames).
+inline constexpr int kMaxFloorMotionReadings = 512;
+
 struct FloorContactOptions {
   bool enabled = true;
   double half_width_deg = 2.0;
@@ -170,6 +174,32 @@ struct FloorContactOptions {
   // override). On brick end walls a mortar line below the horizon is taken for the wall's base
   // and the reading is metres too far (drive-3-01*, the simulator's corridor-1 and corridor-9).
   double agreement_ratio = 0.5;
+  // The override is also taken where the floor contact corroborates itself under the odometry
+  // (motion_window_m > 0; 0 = off, the default; `squint calibrate` writes 2): a floor point
+  // stays put in the odometry frame, so the end's position travel + reading of every raw
+  // reading within the last motion_window_m of travel is the same. With E the median of those
+  // positions, a reading at travel t is an inlier when its row lies within motion_tol_rows of
+  // the row the floor point at E − t projects to; at least motion_min_fraction of at least
+  // motion_min_readings readings, spanning at least half the window, must be inliers, and the
+  // current frame must have a reading. A wall feature above the floor (a brick course) reads
+  // D · h / (h − z) and moves faster than the floor; a reading that jumps between courses
+  // scatters. Unlike the agreement above, the test does not lean on the cues, whose fused
+  // distance far away reads short where a near structure stays in view (a bin in the corridor,
+  // drive-3-02*), so the agreement rejected a right floor contact there (docs/calibration.md,
+  // session 14).
+  double motion_window_m = 0.0;
+  double motion_tol_rows = 0.5;
+  double motion_min_fraction = 0.8;
+  int motion_min_readings = 5;
+  // The refinement to the strongest change in the next 2 rows considers only changes of the
+  // first one's sign and stops at the first of the other sign; the sub-pixel parabola counts an
+  // opposite-signed neighbour as 0 (false, the default: any sign; `squint calibrate` writes true
+  // where it lowers the fused RMSE on its drives). On the ray-traced drives the end wall's foot
+  // is a thin dark line one or two rows high (a contact shadow): its lower side is the opposite
+  // step, often the stronger, and the refinement took it, a row below the foot on the floor
+  // (drive-3-00c/r: mean row error +0.40 / +0.57, σ 0.75 / 0.91 rows at 5–15 m; with the sign
+  // kept +0.02 / +0.10, σ 0.53 / 0.58; docs/calibration.md, session 14).
+  bool refine_same_sign = false;
   std::string Validate() const;
 };
 

@@ -38,6 +38,9 @@ struct PerceptionResult {
   // one, is dist_end_m.
   std::optional<double> dist_floor_raw_m;
   std::optional<double> dist_floor_m;
+  // Whether this frame's floor-contact readings pass the motion test
+  // (FloorContactOptions::motion_window_m; false when it is off).
+  bool dist_floor_moves_as_floor = false;
   // Per cue, indexed by HeadingCue / DistanceCue.
   std::array<HeadingMeasureResult, kHeadingCueCount> heading{};
   std::array<DistanceMeasureResult, kDistanceCueCount> distance{};
@@ -179,6 +182,7 @@ class Perceiver {
   // temporal window.
   std::unique_ptr<FloorContact> floor_contact_;
   CueWindow floor_window_{};
+  std::unique_ptr<FloorMotionCheck> floor_motion_;  // with motion_window_m > 0
   // Pushes `input` (when given) and returns the median of the window; time-to-contact inputs
   // are first moved to the current frame by the travel since.
   std::optional<double> PushAndMedian(CueWindow& w, std::optional<double> input, bool travel_compensated) const;

@@ -160,6 +160,18 @@ struct CalibrateOptions {
   // calibration sets, drive-3-00* fused 0.60 / 3.24 -> 0.40 / 2.87 m, the simulator's
   // corridor-0…4 drives 4.12 / 2.78 -> 4.16 / 2.63 m.
   int ttc_cell_nearest = 8;
+  // The floor contact's motion test (corridor::FloorContactOptions::motion_window_m): written to
+  // the options unless the base options set one (then theirs); 0 = keep the base's (off by
+  // default). 2 m, with the test's other constants at their defaults (0.5 row, 80 % of at least 5
+  // readings), chosen on the calibration drives drive-3-00* and the simulator's drives
+  // (docs/calibration.md, session 14): drive-3-00* fused 0.05 / 0.78 -> 0.05 / 0.60 m at 0.3–5 /
+  // 5–15 m (offline replica).
+  double floor_motion_window_m = 2.0;
+  // The floor contact's same-sign refinement (corridor::FloorContactOptions::refine_same_sign):
+  // turned on in the written options unless the base options have it on already; false = keep
+  // the base's. `squint calibrate` keeps it only where it lowers the fused RMSE on its own drives
+  // (KeepFloorMotion's rule; docs/calibration.md, session 14).
+  bool floor_refine_same_sign = true;
   // Time to contact's own finer image (corridor::DistanceOptions::ttc_glance_scale), used for the
   // fit's own run and written to the options unless the base options set one (then theirs);
   // 1 = keep the base's.
@@ -208,6 +220,18 @@ struct CueRmse {
 };
 CueRmse TtcCalibrationRmse(const std::vector<CorridorRun>& runs, const CalibrateOptions& options,
                            const CorridorCalibrationFile& file);
+
+// The Perceiver's fused distance's RMSE (CorridorFrame::fused_dist_m) on the frames
+// ChooseDistanceFusion judges; `answered` of `frames` had one (rmse_m infinite when none).
+CueRmse FusedDistanceRmse(const std::vector<CorridorRun>& runs, const CalibrateOptions& options);
+
+// Whether `squint calibrate` keeps a floor-contact option that it turned on (the motion test,
+// floor_motion_window_m; the same-sign refinement, floor_refine_same_sign): runs of the
+// calibration sequences with the written options `with` it and `without` it (FusedDistanceRmse).
+// Kept when it lowers the fused RMSE and answers on at least as many frames (the floor contact
+// replaces an estimate, it adds none where the cues gave none), as for fused_max_std_m: a choice
+// judged on the calibration's own drives.
+bool KeepFloorMotion(const CueRmse& with, const CueRmse& without);
 
 // The options `squint calibrate` measures with and writes: `base` with the choices above
 // applied (the far-structure cells when distance is fitted and the base has none).
