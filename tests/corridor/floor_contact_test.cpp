@@ -196,7 +196,9 @@ TEST(FloorMotionCheck, AFloorPointPassesOnceTheWindowIsSpanned) {
       double r = 12.0 - t;
       if (outlier_every > 0 && i % outlier_every == 0) r *= 0.7;  // several rows nearer
       last = check.Update(t, r);
-      if (i < 10) EXPECT_FALSE(last) << i;  // the readings span less than 1 m
+      if (i < 10) {
+        EXPECT_FALSE(last) << i;  // the readings span less than 1 m
+      }
     }
     EXPECT_EQ(last, outlier_every != 3) << outlier_every;
   }
