@@ -1521,7 +1521,26 @@ struct Renderer::Impl {
 
 #ifdef SQUINT_RENDER_SIMD
   // WallDistance for eight walls (w, -1 for none) and directions, lane by lane.
+  // WallDistance for eight directions from a wall's fields (each lane its wall's), lane by lane.
+  [[gnu::target("avx512f,avx512vl,avx512dq"), gnu::always_inline]] static inline __m512d WallDistance8(__m512d off, __m512d sx, __m512d syy,
+                                                                                                     __m512d base, __m512d lo, __m512d hi,
+                                                                                                     __m512d dx, __m512d dy) {
+    const __m512d t = _mm512_div_pd(off, _mm512_add_pd(_mm512_mul_pd(sx, dx), _mm512_mul_pd(syy, dy)));
+    const __m512d along = _mm512_add_pd(base, _mm512_mul_pd(t, _mm512_add_pd(_mm512_mul_pd(syy, dx), _mm512_mul_pd(sx, dy))));
+    const __mmask8 ok = _mm512_cmp_pd_mask(t, _mm512_setzero_pd(), _CMP_GT_OQ) & _mm512_cmp_pd_mask(along, lo, _CMP_GE_OQ) &
+                        _mm512_cmp_pd_mask(along, hi, _CMP_LE_OQ);
+    return _mm512_mask_blend_pd(ok, _mm512_set1_pd(kInf), t);
+  }
+  // ... for one wall w (its fields broadcast, no gathers).
+  [[gnu::target("avx512f,avx512vl,avx512dq"), gnu::always_inline]] inline __m512d WallDistance8(int w, __m512d dx, __m512d dy) const {
+    const WallFast& f = wf[w];
+    return WallDistance8(_mm512_set1_pd(f.off), _mm512_set1_pd(f.sx), _mm512_set1_pd(f.sy), _mm512_set1_pd(f.base),
+                         _mm512_set1_pd(f.lo), _mm512_set1_pd(f.hi), dx, dy);
+  }
+  // ... for eight walls (w, -1 for none): one wall's fields broadcast when all lanes name it, else gathered.
   [[gnu::target("avx512f,avx512vl,avx512dq"), gnu::always_inline]] inline __m512d WallDistance8(__m256i w, __m512d dx, __m512d dy) const {
+    const int w_first = _mm256_cvtsi256_si32(w);
+    if (_mm256_cmpeq_epi32_mask(w, _mm256_set1_epi32(w_first)) == 0xFF) return WallDistance8(w_first, dx, dy);
     static_assert(sizeof(WallFast) % sizeof(double) == 0);
     constexpr int kWfStride = sizeof(WallFast) / sizeof(double);
     const double* wfb = reinterpret_cast<const double*>(wall_fast.data());
@@ -1531,11 +1550,7 @@ struct Renderer::Impl {
     const __m512d off = _mm512_i32gather_pd(idx, wfb + kOff, 8), sx = _mm512_i32gather_pd(idx, wfb + kSx, 8);
     const __m512d syy = _mm512_i32gather_pd(idx, wfb + kSy, 8), base = _mm512_i32gather_pd(idx, wfb + kBase, 8);
     const __m512d lo = _mm512_i32gather_pd(idx, wfb + kLo, 8), hi = _mm512_i32gather_pd(idx, wfb + kHi, 8);
-    const __m512d t = _mm512_div_pd(off, _mm512_add_pd(_mm512_mul_pd(sx, dx), _mm512_mul_pd(syy, dy)));
-    const __m512d along = _mm512_add_pd(base, _mm512_mul_pd(t, _mm512_add_pd(_mm512_mul_pd(syy, dx), _mm512_mul_pd(sx, dy))));
-    const __mmask8 ok = _mm512_cmp_pd_mask(t, _mm512_setzero_pd(), _CMP_GT_OQ) & _mm512_cmp_pd_mask(along, lo, _CMP_GE_OQ) &
-                        _mm512_cmp_pd_mask(along, hi, _CMP_LE_OQ);
-    return _mm512_mask_blend_pd(ok, _mm512_set1_pd(kInf), t);
+    return WallDistance8(off, sx, syy, base, lo, hi, dx, dy);
   }
 
   // GridIndex for eight floor points, in floats from the start of `cells` (the cell's words).
@@ -1594,7 +1609,8 @@ struct Renderer::Impl {
         const __m256i bin = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(bins_p + i0));
         const __m256i w0 = _mm256_i32gather_epi32(edge_wall.data(), bin, 4);
         const __m256i w1 = _mm256_i32gather_epi32(edge_wall.data() + 1, bin, 4);
-        const __m512d t0 = WallDistance8(w0, dx, dy), t1 = WallDistance8(w1, dx, dy);
+        const __m512d t0 = WallDistance8(w0, dx, dy);
+        const __m512d t1 = _mm256_cmpeq_epi32_mask(w0, w1) == 0xFF ? t0 : WallDistance8(w1, dx, dy);
         // w1 == w0 gives t1 == t0 bit for bit: the selection then keeps w0 and t0, as the scalar code does.
         const __mmask8 first = _mm512_cmp_pd_mask(t0, t1, _CMP_LE_OQ);
         id = _mm256_mask_blend_epi32(first, w1, w0);
@@ -1619,7 +1635,7 @@ struct Renderer::Impl {
           switch (static_cast<Surf>(keys[q] >> 24)) {
             case Surf::kFloor: rq = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(k, zero, _CMP_LT_OQ), inf, rk); break;
             case Surf::kCeiling: rq = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(k, zero, _CMP_GT_OQ), inf, _mm512_mul_pd(ceil_rel, rk)); break;
-            case Surf::kWall: rq = WallDistance8(_mm256_set1_epi32(static_cast<int>(keys[q] & 0xFFFFFFu)), dx, dy); break;
+            case Surf::kWall: rq = WallDistance8(static_cast<int>(keys[q] & 0xFFFFFFu), dx, dy); break;
             default: rq = inf; break;
           }
           const __mmask8 nearer = _mm512_cmp_pd_mask(rq, r, _CMP_LT_OQ);
