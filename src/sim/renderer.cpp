@@ -437,6 +437,9 @@ struct Renderer::Impl {
       const bool clear = y - q > 1e-9 && q + 1 - y > 1e-9 && std::abs(q) <= 127;
       noise_steps[i] = clear ? static_cast<std::int8_t>(q) : kNoiseExact;
     }
+    // (RespondRowSimd reads both tables by 32-bit gathers: three bytes of padding)
+    gamma_lut.resize(kGammaLutSize + 3, 0);
+    noise_steps.resize(normal_table.size() + 3, 0);
   }
 
   // The lights within reach of p and not hidden from it by a wall (2-D visibility: walls reach
@@ -2669,9 +2672,13 @@ struct Renderer::Impl {
       for (int v = 0; v < camera.height; ++v)
         for (int u = 0; u < camera.width; ++u, s += nn) *mean++ = PixelAdaptiveFast(u, v, s);
       mean = pix_mean.data();
-      for (int v = 0; v < camera.height; ++v) {
+      for (int v = 0; v < camera.height; ++v, mean += camera.width) {
         std::uint8_t* row = image.Row(v);
-        for (int u = 0; u < camera.width; ++u) row[u] = Respond(*mean++, lut_scale, noisy, key, u, v);
+        int u = 0;
+#ifdef SQUINT_RENDER_SIMD
+        if (avx512) u = RespondRowSimd(mean, lut_scale, noisy, key, v, row);
+#endif
+        for (; u < camera.width; ++u) row[u] = Respond(mean[u], lut_scale, noisy, key, u, v);
       }
       return;
     }
@@ -2700,6 +2707,42 @@ struct Renderer::Impl {
       }
     }
   }
+
+#ifdef SQUINT_RENDER_SIMD
+  // Respond for the pixels of row v, eight per AVX-512 step, with Respond's integer steps (the
+  // response table's level, the noise hash, the noise step, the clamp); a pixel whose step is
+  // kNoiseExact is left to Respond. Returns how many pixels it wrote (a multiple of eight).
+  [[gnu::target("avx512f,avx512vl,avx512dq")]] int RespondRowSimd(const double* mean, double lut_scale, bool noisy, std::uint64_t key,
+                                                                 int v, std::uint8_t* row) const {
+    const int n8 = camera.width / 8 * 8;
+    const __m512i lane = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
+    for (int u = 0; u < n8; u += 8) {
+      __m256i li = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_loadu_pd(mean + u), _mm512_set1_pd(lut_scale)));
+      li = _mm256_max_epi32(_mm256_min_epi32(li, _mm256_set1_epi32(kGammaLutSize - 1)), _mm256_setzero_si256());
+      const __m256i level = _mm256_and_si256(_mm256_i32gather_epi32(reinterpret_cast<const int*>(gamma_lut.data()), li, 1), _mm256_set1_epi32(0xFF));
+      __m256i step = _mm256_setzero_si256();
+      __mmask8 exact = 0;
+      if (noisy) {  // SplitMix(key ^ (v * 100003 + u)) per lane
+        __m512i x = _mm512_xor_si512(_mm512_set1_epi64(static_cast<long long>(key)), _mm512_add_epi64(_mm512_set1_epi64(static_cast<long long>(static_cast<std::uint64_t>(v) * 100003u + u)), lane));
+        x = _mm512_add_epi64(x, _mm512_set1_epi64(static_cast<long long>(0x9E3779B97F4A7C15ull)));
+        x = _mm512_mullo_epi64(_mm512_xor_si512(x, _mm512_srli_epi64(x, 30)), _mm512_set1_epi64(static_cast<long long>(0xBF58476D1CE4E5B9ull)));
+        x = _mm512_mullo_epi64(_mm512_xor_si512(x, _mm512_srli_epi64(x, 27)), _mm512_set1_epi64(static_cast<long long>(0x94D049BB133111EBull)));
+        x = _mm512_xor_si512(x, _mm512_srli_epi64(x, 31));
+        const __m256i idx = _mm256_and_si256(_mm512_cvtepi64_epi32(x), _mm256_set1_epi32(0xFFFF));
+        step = _mm256_i32gather_epi32(reinterpret_cast<const int*>(noise_steps.data()), idx, 1);
+        step = _mm256_srai_epi32(_mm256_slli_epi32(step, 24), 24);  // the low byte, signed
+        exact = _mm256_cmpeq_epi32_mask(step, _mm256_set1_epi32(kNoiseExact));
+      }
+      const __m256i grey = _mm256_max_epi32(_mm256_min_epi32(_mm256_add_epi32(level, step), _mm256_set1_epi32(255)), _mm256_setzero_si256());
+      _mm_storel_epi64(reinterpret_cast<__m128i*>(row + u), _mm256_cvtepi32_epi8(grey));
+      for (; exact; exact &= static_cast<__mmask8>(exact - 1)) {
+        const int k = u + __builtin_ctz(exact);
+        row[k] = Respond(mean[k], lut_scale, noisy, key, k, v);
+      }
+    }
+    return n8;
+  }
+#endif
 
   // A pixel's grey level from its mean radiance: exposure, response curve, noise keyed by
   // (key, pixel), rounded half up.
