@@ -639,7 +639,11 @@ struct Renderer::Impl {
       const double* other = ws.along_x ? edge_dx.data() : edge_dy.data();
       const double num = ws.coord - (ws.along_x ? py : px), base = ws.along_x ? px : py;
       const double lo_e = ws.lo - 1e-9, hi_e = ws.hi + 1e-9;
-      for (int e = e0; e <= e1; ++e) {
+      int e = e0;
+#ifdef SQUINT_RENDER_SIMD
+      if (avx512) e = WallEdgesSimd(static_cast<int>(w), e0, e1, across, other, num, base, lo_e, hi_e);
+#endif
+      for (; e <= e1; ++e) {
         if (std::abs(across[e]) < 1e-12) continue;
         const double t = num / across[e];
         const double along = base + t * other[e];
@@ -685,6 +689,27 @@ struct Renderer::Impl {
       }
     }
   }
+
+#ifdef SQUINT_RENDER_SIMD
+  // The bearing table's loop over edges [e0, e1] for wall w, eight edges per AVX-512 step with the
+  // scalar loop's tests (each negated, as its `continue` is taken): the edges it covers, from e0.
+  [[gnu::target("avx512f,avx512vl,avx512dq")]] int WallEdgesSimd(int w, int e0, int e1, const double* across, const double* other,
+                                                                double num, double base, double lo_e, double hi_e) {
+    int e = e0;
+    for (; e + 7 <= e1; e += 8) {
+      const __m512d a = _mm512_loadu_pd(across + e), et = _mm512_loadu_pd(&edge_t[e]);
+      const __m512d t = _mm512_div_pd(_mm512_set1_pd(num), a);
+      const __m512d along = _mm512_add_pd(_mm512_set1_pd(base), _mm512_mul_pd(t, _mm512_loadu_pd(other + e)));
+      const __mmask8 take = _mm512_cmp_pd_mask(_mm512_abs_pd(a), _mm512_set1_pd(1e-12), _CMP_NLT_UQ) &
+                            _mm512_cmp_pd_mask(t, _mm512_setzero_pd(), _CMP_NLE_UQ) & _mm512_cmp_pd_mask(t, et, _CMP_NGE_UQ) &
+                            _mm512_cmp_pd_mask(along, _mm512_set1_pd(lo_e), _CMP_NLT_UQ) &
+                            _mm512_cmp_pd_mask(along, _mm512_set1_pd(hi_e), _CMP_NGT_UQ);
+      _mm512_mask_storeu_pd(&edge_t[e], take, t);
+      _mm256_mask_storeu_epi32(&edge_wall[e], take, _mm256_set1_epi32(w));
+    }
+    return e;
+  }
+#endif
 
   // The body's irradiance this frame: its side at mid-height for kBodyDirs outward normals and
   // its top, from the lights visible from the robot's centre (as obstacles are lit; the body
