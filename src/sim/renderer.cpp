@@ -1814,6 +1814,21 @@ struct Renderer::Impl {
     const double* mb = reinterpret_cast<const double*>(mats.data());
     const float* tfb = reinterpret_cast<const float*>(texels_fast.data());
     static_assert(sizeof(TexelsFast) == 16);
+    // One material in every lane read (the common case): its fields broadcast instead of gathered.
+    const int m_first = ok ? _mm256_cvtsi256_si32(_mm256_permutexvar_epi32(_mm256_set1_epi32(__builtin_ctz(ok)), mat)) : 0;
+    if (ok && !_mm256_mask_cmpneq_epi32_mask(ok, mat, _mm256_set1_epi32(m_first))) {
+      const TexelsFast& t = texels_fast[m_first];
+      const __m512d inv = _mm512_set1_pd(t.inv_texel_m);
+      const __m256i iu = _mm256_and_si256(_mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(u, inv), big)), m127);
+      const __m256i iv = _mm256_and_si256(_mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(v, inv), big)), m127);
+      const __m256i texel = _mm256_and_si256(
+          _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), ok, _mm256_add_epi32(_mm256_slli_epi32(iv, 7), iu), t.texels, 1),
+          _mm256_set1_epi32(0xFF));
+      texv = _mm512_cvtps_pd(_mm256_mul_ps(_mm256_cvtepi32_ps(texel), _mm256_set1_ps(t.gain)));
+      albedo = _mm512_set1_pd(mats[m_first].albedo);
+      emission = _mm512_set1_pd(mats[m_first].emission);
+      return;
+    }
     const __m256i m4 = _mm256_slli_epi32(mat, 2);
     const __m512d inv = _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, m4, tfb + 2, 4));
     const __m256 gain = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, m4, tfb + 3, 4);
