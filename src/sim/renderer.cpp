@@ -1691,12 +1691,14 @@ struct Renderer::Impl {
       for (int c = 0; c < 5; ++c) count[c] += __builtin_popcount(_mm256_cmpeq_epi32_mask(q, _mm256_set1_epi32(c)));
       count[4] += __builtin_popcount(traced);
     }
-    // Each plain plane's samples: light-map values lane by lane, summed in sample order.
-    double e[kMaxSamples];
+    // Each plain plane's samples: light-map values lane by lane, summed in sample order (packed
+    // in that order, the plane's samples only, so that the sum takes no branch per sample).
+    double e[kMaxSamples + 8];
     for (int qq = 0; qq < np; ++qq) {
       if (count[qq] == 0) continue;
       PlainAccum& a = acc[qq];
       const auto psurf = static_cast<Surf>(keys[qq] >> 24);
+      int ne = 0;
       __m512d u_lo = inf, u_hi = _mm512_set1_pd(-kInf), v_lo = inf, v_hi = _mm512_set1_pd(-kInf);
       const __m512d pxv = _mm512_set1_pd(px), pyv = _mm512_set1_pd(py);
       for (int i0 = 0; i0 < nn; i0 += 8) {
@@ -1721,13 +1723,13 @@ struct Renderer::Impl {
           const __m512d irr = _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), m, gidx, &cells[0].irr, 4));
           ev = psurf == Surf::kCeiling ? _mm512_add_pd(_mm512_set1_pd(world.ambient), _mm512_mul_pd(_mm512_set1_pd(kCeilingBounce), irr)) : irr;
         }
-        _mm512_storeu_pd(e + i0, ev);
+        _mm512_storeu_pd(e + ne, _mm512_maskz_compress_pd(m, ev));
+        ne += __builtin_popcount(m);
         u_lo = _mm512_mask_min_pd(u_lo, m, u_lo, tu), u_hi = _mm512_mask_max_pd(u_hi, m, u_hi, tu);
         v_lo = _mm512_mask_min_pd(v_lo, m, v_lo, tv), v_hi = _mm512_mask_max_pd(v_hi, m, v_hi, tv);
       }
       double e_sum = 0;
-      for (int i = 0; i < nn; ++i)
-        if (sq[i] == qq) e_sum += e[i];
+      for (int i = 0; i < ne; ++i) e_sum += e[i];
       a.e_sum = e_sum;
       a.u_lo = _mm512_reduce_min_pd(u_lo), a.u_hi = _mm512_reduce_max_pd(u_hi);
       a.v_lo = _mm512_reduce_min_pd(v_lo), a.v_hi = _mm512_reduce_max_pd(v_hi);
@@ -1758,9 +1760,8 @@ struct Renderer::Impl {
     const __m512d hv = _mm512_set1_pd(h_rel), pxv = _mm512_set1_pd(px), pyv = _mm512_set1_pd(py), camz = _mm512_set1_pd(cam_h);
     const __m512d wcp = _mm512_set1_pd(wall_c - wall_p), wav = _mm512_set1_pd(wall_a);
     __m512d pul = inf, puh = ninf, pvl = inf, pvh = ninf, wul = inf, wuh = ninf, wvl = inf, wvh = ninf;
-    double pev[kMaxSamples], wev[kMaxSamples];
-    std::uint32_t on_bits[kMaxSamples / 8];
-    int on_plane = 0;
+    double pev[kMaxSamples + 8], wev[kMaxSamples + 8];  // each side's light-map values, packed in sample order
+    int on_plane = 0, off_plane = 0;
     for (int i0 = 0; i0 < nn; i0 += 8) {
       const __m512d fx = _mm512_loadu_pd(&split_fx[i0]), fy = _mm512_loadu_pd(&split_fy[i0]);
       // Per row (fy) the left and right ends, then along the row (fx), as the scalar loop steps.
@@ -1773,15 +1774,15 @@ struct Renderer::Impl {
       const __m512d sdz = _mm512_add_pd(z_l, _mm512_mul_pd(fx, _mm512_sub_pd(z_r, z_l)));
       const __mmask8 on = _mm512_cmp_pd_mask(_mm512_add_pd(g_l, _mm512_mul_pd(fx, _mm512_sub_pd(g_r, g_l))), zero, _CMP_GT_OQ);
       const __mmask8 off = static_cast<__mmask8>(~on);
-      on_bits[i0 / 8] = on;
-      on_plane += __builtin_popcount(on);
+
       if (on) {  // the floor or ceiling plane
         const __m512d t = _mm512_div_pd(hv, sdz);
         const __m512d x = _mm512_add_pd(pxv, _mm512_mul_pd(t, sdx)), y = _mm512_add_pd(pyv, _mm512_mul_pd(t, sdy));
         pul = _mm512_mask_min_pd(pul, on, pul, x), puh = _mm512_mask_max_pd(puh, on, puh, x);
         pvl = _mm512_mask_min_pd(pvl, on, pvl, y), pvh = _mm512_mask_max_pd(pvh, on, pvh, y);
         const __m256i gidx = GridWord8(x, y);
-        _mm512_storeu_pd(pev + i0, _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), on, gidx, &cells[0].irr, 4)));
+        _mm512_storeu_pd(pev + on_plane, _mm512_maskz_compress_pd(on, _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), on, gidx, &cells[0].irr, 4))));
+        on_plane += __builtin_popcount(on);
       }
       if (off) {  // the wall
         const __m512d across = along_x ? sdy : sdx, other = along_x ? sdx : sdy;
@@ -1789,14 +1790,13 @@ struct Renderer::Impl {
         const __m512d along = _mm512_add_pd(wav, _mm512_mul_pd(t, other)), z = _mm512_add_pd(camz, _mm512_mul_pd(t, sdz));
         wul = _mm512_mask_min_pd(wul, off, wul, along), wuh = _mm512_mask_max_pd(wuh, off, wuh, along);
         wvl = _mm512_mask_min_pd(wvl, off, wvl, z), wvh = _mm512_mask_max_pd(wvh, off, wvh, z);
-        _mm512_storeu_pd(wev + i0, WallIrradiance8(wl, along, z, off));
+        _mm512_storeu_pd(wev + off_plane, _mm512_maskz_compress_pd(off, WallIrradiance8(wl, along, z, off)));
+        off_plane += __builtin_popcount(off);
       }
     }
     double pe_sum = 0, we_sum = 0;
-    for (int i = 0; i < nn; ++i) {
-      if (on_bits[i / 8] >> (i % 8) & 1) pe_sum += pev[i];
-      else we_sum += wev[i];
-    }
+    for (int i = 0; i < on_plane; ++i) pe_sum += pev[i];
+    for (int i = 0; i < off_plane; ++i) we_sum += wev[i];
     pe = pe_sum, we = we_sum;
     pu_lo = _mm512_reduce_min_pd(pul), pu_hi = _mm512_reduce_max_pd(puh), pv_lo = _mm512_reduce_min_pd(pvl), pv_hi = _mm512_reduce_max_pd(pvh);
     wu_lo = _mm512_reduce_min_pd(wul), wu_hi = _mm512_reduce_max_pd(wuh), wv_lo = _mm512_reduce_min_pd(wvl), wv_hi = _mm512_reduce_max_pd(wvh);
