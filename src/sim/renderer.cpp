@@ -895,6 +895,13 @@ struct Renderer::Impl {
         hit.r = rc;
       }
     }
+    TraceRest(s, dx, dy, hit);
+    return hit;
+  }
+
+  // Trace's obstacle search and stepped-ceiling correction, for `hit` the nearest wall, floor or
+  // ceiling along sample s (horizontal direction dx, dy).
+  [[gnu::always_inline]] void TraceRest(const Sample& s, double dx, double dy, Hit& hit) const {
     const int cnt = bin_count[s.bin];
     // An obstacle's entry distance is at least its bounding circle's nearest distance: none
     // in the bin can be met before the hit when the nearest lies beyond it (with a margin).
@@ -912,7 +919,6 @@ struct Renderer::Impl {
       const double h2 = world.CeilingAt({px + dx * hit.r, py + dy * hit.r});
       if (h2 > cam_h && h2 != frame_ceiling) hit.r = (h2 - cam_h) / s.k;
     }
-    return hit;
   }
 
   // The slow path for mirror reflections: any origin, all walls and obstacles.
@@ -1234,6 +1240,35 @@ struct Renderer::Impl {
   double PixelTraced(const Sample* s) const {
     const int nn = n * n;
     double sum = 0;
+#ifdef SQUINT_RENDER_SIMD
+    // With the vector paths: each sample's nearest wall, floor or ceiling along the bearing table
+    // as PixelPlanes finds it (PlanesSimd / PlanesAvx2 with no planes of the pixel's own: Trace's
+    // operations lane by lane), then the rest of Trace and the shading one by one.
+    if (simd) {
+      double sdx[kMaxSamples], sdy[kMaxSamples], sr[kMaxSamples];
+      int sid[kMaxSamples], sq[kMaxSamples], count[5] = {0, 0, 0, 0, 0};
+      Surf ss[kMaxSamples];
+      const std::uint32_t kq[4] = {0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu};
+      const bool pq[5] = {false, false, false, false, false};
+      const std::size_t pixel = static_cast<std::size_t>(s - samples.data()) / nn;
+      if (avx512 ? PlanesSimd(pixel, true, 0, nullptr, kq, pq, sdx, sdy, sr, sid, ss, sq, count, nullptr)
+                 : PlanesAvx2(pixel, true, 0, nullptr, kq, pq, sdx, sdy, sr, sid, ss, sq, count, nullptr)) {
+        const int depth = has_mirrors ? 0 : 1;
+        for (int i = 0; i < nn; ++i) {
+          double dx = sdx[i], dy = sdy[i];
+          Hit hit;
+          if (sq[i] < 0) {  // a sliver wall inside the bin: Trace in full
+            hit = Trace(s[i], dx, dy);
+          } else {
+            hit.surf = ss[i], hit.id = sid[i], hit.r = sr[i];
+            TraceRest(s[i], dx, dy, hit);
+          }
+          sum += Shade(hit, px, py, cam_h, dx, dy, s[i].k, depth);
+        }
+        return sum / nn;
+      }
+    }
+#endif
     for (int i = 0; i < nn; ++i, ++s) {
       double dx, dy;
       const Hit hit = Trace(*s, dx, dy);
