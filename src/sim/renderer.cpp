@@ -1424,13 +1424,21 @@ struct Renderer::Impl {
     }
     for (int u = 0; u < camera.width; ++u) {
       double t = 0, near = kInf;
-      for (int e = col_bin_lo[u]; e <= col_bin_hi[u] + 1; ++e) t = std::max(t, edge_t[e]);
-      for (int b = col_bin_lo[u]; b <= col_bin_hi[u]; ++b) near = std::min(near, bin_near[b]);
+      bool any_obstacle = true;
+#ifdef SQUINT_RENDER_SIMD
+      if (avx512) {
+        ColumnBoundsSimd(u, t, near, any_obstacle);
+      } else
+#endif
+      {
+        for (int e = col_bin_lo[u]; e <= col_bin_hi[u] + 1; ++e) t = std::max(t, edge_t[e]);
+        for (int b = col_bin_lo[u]; b <= col_bin_hi[u]; ++b) near = std::min(near, bin_near[b]);
+      }
       col_max_t[u] = t;
       col_near[u] = near;
       int* list = &col_obs[static_cast<std::size_t>(u) * kMaxColObstacles];
       int cnt = 0;
-      for (int b = col_bin_lo[u]; b <= col_bin_hi[u] && cnt >= 0; ++b) {
+      for (int b = col_bin_lo[u]; any_obstacle && b <= col_bin_hi[u] && cnt >= 0; ++b) {
         if (bin_count[b] > kMaxBinObstacles) {
           cnt = -1;
           break;
@@ -1498,6 +1506,27 @@ struct Renderer::Impl {
       MarkPolygon(pts, 4, 0.0, kMaskPattern);
     }
   }
+
+#ifdef SQUINT_RENDER_SIMD
+  // Column u's farthest bearing-table wall and nearest obstacle (maxima and minima of values
+  // that are positive or infinite: the same in any order), eight bins per AVX-512 step, and
+  // whether any of its bins lists an obstacle.
+  [[gnu::target("avx512f,avx512vl,avx512dq")]] void ColumnBoundsSimd(int u, double& t, double& near, bool& any_obstacle) const {
+    const int lo = col_bin_lo[u], hi = col_bin_hi[u];
+    __m512d tv = _mm512_setzero_pd(), nv = _mm512_set1_pd(kInf);
+    __mmask8 listed = 0;
+    for (int e = lo; e <= hi + 1; e += 8) {
+      const __mmask8 m = static_cast<__mmask8>(hi + 1 - e >= 7 ? 0xFF : (1u << (hi + 2 - e)) - 1);
+      tv = _mm512_mask_max_pd(tv, m, tv, _mm512_maskz_loadu_pd(m, &edge_t[e]));
+      const __mmask8 mb = static_cast<__mmask8>(hi - e >= 7 ? 0xFF : (hi < e ? 0 : (1u << (hi + 1 - e)) - 1));
+      nv = _mm512_mask_min_pd(nv, mb, nv, _mm512_maskz_loadu_pd(mb, &bin_near[e]));
+      listed |= _mm256_mask_cmpgt_epi32_mask(mb, _mm256_maskz_loadu_epi32(mb, &bin_count[e]), _mm256_setzero_si256());
+    }
+    t = _mm512_reduce_max_pd(tv);
+    near = _mm512_reduce_min_pd(nv);
+    any_obstacle = listed != 0;
+  }
+#endif
 
   // A world point in the camera frame (x right, y down, z along the optical axis).
   Eigen::Vector3d ToCamera(double x, double y, double z) const {
