@@ -201,7 +201,11 @@ struct Renderer::Impl {
     const std::uint8_t* texels;
     float inv_texel_m, gain;
   };
-  std::vector<TexelsFast> texels_fast;  // per sample of a pixel: (i + 0.5) / n, (j + 0.5) / n (PixelSplit)
+  std::vector<TexelsFast> texels_fast;
+  struct PanelFast {  // per light, for ShadeOnPlaneSimd: its panel and the panel's radiance (as Shade)
+    double cx, cy, hx, hy, radiance;
+  };
+  std::vector<PanelFast> panels;  // per sample of a pixel: (i + 0.5) / n, (j + 0.5) / n (PixelSplit)
   std::vector<Sample> corners;       // (width + 1) × (height + 1) rays through the pixel corners
   std::vector<Eigen::Vector3d> corner_dir;  // their robot-frame directions, unnormalised (affine in the image)
   std::vector<int> col_bin_lo, col_bin_hi;  // per pixel column: bearing bins its rays may use
@@ -391,6 +395,10 @@ struct Renderer::Impl {
     for (const Corridor& c : world.corridors) uniform_ceiling = uniform_ceiling && c.height_m == ceiling_h;
 
     BuildLightMaps();
+    panels.clear();
+    for (const Light& lt : world.lights)
+      panels.push_back({lt.centre.x(), lt.centre.y(), lt.half_x, lt.half_y,
+                        lt.on ? kLightPanelRadiance * std::max(0.3, lt.intensity) : kOffPanelRadiance});
     texels_fast.clear();
     if (simd)
       for (detail::TextureTable& t : tex) {
@@ -1909,7 +1917,8 @@ struct Renderer::Impl {
 
   // PixelOnPlane's shading, eight samples per AVX-512 step, for the samples that Shade would
   // shade without a branch of its own: on the plane (finite r), the floor outside flat items,
-  // the ceiling outside light panels, a wall that is no mirror (its decals tested in order).
+  // the ceiling (its light panels tested as Shade does), a wall that is no mirror (its decals
+  // tested in order).
   // val[i]: Shade's radiance where done[i]; the others are left to Shade. (sdx, sdy, sr are
   // only read: non-const so that GCC 12 does not take them for uninitialised.)
   [[gnu::target("avx512f,avx512vl,avx512dq")]] void ShadeOnPlaneSimd(std::size_t pixel, Surf surf, int id, double* sdx,
@@ -1946,13 +1955,26 @@ struct Renderer::Impl {
         const __m256 irr_f = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, cw4, &cells[0].irr, 4);
         const __m256i mats_w = _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), ok, _mm256_add_epi32(cw4, _mm256_set1_epi32(1)), cell_words, 4);
         __m256i mat;
+        __mmask8 panel = 0;  // (ceiling) on a light panel: its radiance
+        __m512d panel_val = zero;
         if (surf == Surf::kFloor) {
           const __m256i flat = _mm256_srai_epi32(_mm256_slli_epi32(_mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), ok, _mm256_add_epi32(cw4, _mm256_set1_epi32(2)), cell_words, 4), 16), 16);
           ok &= _mm256_cmpeq_epi32_mask(flat, _mm256_set1_epi32(-1));
           mat = _mm256_srai_epi32(_mm256_slli_epi32(mats_w, 16), 16);  // floor_mat (low half)
         } else {
           const __m256i light = _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), ok, _mm256_add_epi32(cw4, _mm256_set1_epi32(3)), cell_words, 4);
-          ok &= _mm256_cmplt_epi32_mask(light, _mm256_setzero_si256());
+          const __mmask8 in_cell = ok & _mm256_cmpge_epi32_mask(light, _mm256_setzero_si256());
+          if (in_cell) {  // Shade's panel test, lane by lane; a point of the cell off the panel is plain ceiling
+            static_assert(sizeof(PanelFast) == 5 * sizeof(double));
+            const __m256i li = _mm256_mullo_epi32(light, _mm256_set1_epi32(5));
+            const double* pb = &panels[0].cx;
+            const __m512d cx = _mm512_mask_i32gather_pd(zero, in_cell, li, pb, 8), cy = _mm512_mask_i32gather_pd(zero, in_cell, li, pb + 1, 8);
+            const __m512d hx = _mm512_mask_i32gather_pd(zero, in_cell, li, pb + 2, 8), hy = _mm512_mask_i32gather_pd(zero, in_cell, li, pb + 3, 8);
+            panel = in_cell & _mm512_cmp_pd_mask(_mm512_abs_pd(_mm512_sub_pd(x, cx)), hx, _CMP_LE_OQ) &
+                    _mm512_cmp_pd_mask(_mm512_abs_pd(_mm512_sub_pd(y, cy)), hy, _CMP_LE_OQ);
+            panel_val = _mm512_mask_i32gather_pd(zero, panel, li, pb + 4, 8);
+          }
+          ok &= static_cast<__mmask8>(~panel);
           mat = _mm256_srai_epi32(mats_w, 16);  // ceil_mat (high half)
         }
         if (ok) {
@@ -1962,6 +1984,8 @@ struct Renderer::Impl {
           const __m512d e = surf == Surf::kFloor ? irr : _mm512_add_pd(_mm512_set1_pd(world.ambient), _mm512_mul_pd(_mm512_set1_pd(kCeilingBounce), irr));
           res = _mm512_add_pd(_mm512_mul_pd(_mm512_mul_pd(albedo, texv), e), emission);
         }
+        res = _mm512_mask_blend_pd(panel, res, panel_val);
+        ok |= panel;
       } else if (surf == Surf::kWall && wall_ok) {
         const __m512d k = _mm512_cvtps_pd(_mm256_loadu_ps(soa + 2 * nn + i0));
         const __m512d along = wall_x ? x : y;
