@@ -1594,7 +1594,11 @@ struct Renderer::Impl {
     for (int u = u0; u <= u1; ++u) far = std::max(far, col_max_t[u]);
     if (near > far * (1 + 1e-6) + 1e-6) return;  // behind the walls in every column it spans
     const double dv = vb - va;
-    for (int v = v0; v <= v1; ++v) {
+    int v = v0;
+#ifdef SQUINT_RENDER_SIMD
+    if (avx512 && std::abs(dv) > 1e-9) v = MarkRowsSimd(ua, ub, va, dv, u0, u1, v0, v1, bit);
+#endif
+    for (; v <= v1; ++v) {
       // The segment's columns over rows [v - 0.5 - pad, v + 0.5 + pad] (u is affine in v).
       double lo = std::min(ua, ub), hi = std::max(ua, ub);
       if (std::abs(dv) > 1e-9) {
@@ -1607,6 +1611,38 @@ struct Renderer::Impl {
       for (int u = c0; u <= c1; ++u) mask[static_cast<std::size_t>(v) * camera.width + u] |= bit;
     }
   }
+
+#ifdef SQUINT_RENDER_SIMD
+  // MarkSegment's rows v0 .. v1 (|dv| > 1e-9), eight rows per AVX-512 step: each row's columns
+  // with MarkSegment's operations (std::clamp, std::min and std::max as the selects they are;
+  // ceil and floor exact), then its marks. Returns the first row it did not mark.
+  [[gnu::target("avx512f,avx512vl,avx512dq")]] int MarkRowsSimd(double ua, double ub, double va, double dv, int u0, int u1, int v0,
+                                                               int v1, std::uint8_t bit) {
+    constexpr double kPad = 1e-3;
+    const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1.0);
+    const __m512d vav = _mm512_set1_pd(va), dvv = _mm512_set1_pd(dv), uav = _mm512_set1_pd(ua), dua = _mm512_set1_pd(ub - ua);
+    int v = v0;
+    for (; v + 7 <= v1; v += 8) {
+      const __m512d vd = _mm512_cvtepi32_pd(_mm256_add_epi32(_mm256_set1_epi32(v), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)));
+      const __m512d r0 = _mm512_div_pd(_mm512_sub_pd(_mm512_sub_pd(_mm512_sub_pd(vd, _mm512_set1_pd(0.5)), _mm512_set1_pd(kPad)), vav), dvv);
+      const __m512d r1 = _mm512_div_pd(_mm512_sub_pd(_mm512_add_pd(_mm512_add_pd(vd, _mm512_set1_pd(0.5)), _mm512_set1_pd(kPad)), vav), dvv);
+      // std::clamp(r, 0.0, 1.0): r < 0 ? 0 : (1 < r ? 1 : r)
+      const __m512d t0 = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(r0, zero, _CMP_LT_OQ), _mm512_mask_blend_pd(_mm512_cmp_pd_mask(one, r0, _CMP_LT_OQ), r0, one), zero);
+      const __m512d t1 = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(r1, zero, _CMP_LT_OQ), _mm512_mask_blend_pd(_mm512_cmp_pd_mask(one, r1, _CMP_LT_OQ), r1, one), zero);
+      const __m512d x0 = _mm512_add_pd(uav, _mm512_mul_pd(t0, dua)), x1 = _mm512_add_pd(uav, _mm512_mul_pd(t1, dua));
+      const __mmask8 swap = _mm512_cmp_pd_mask(x1, x0, _CMP_LT_OQ);  // std::min(x0, x1) is x1 there, std::max x0
+      const __m512d lo = _mm512_mask_blend_pd(swap, x0, x1), hi = _mm512_mask_blend_pd(swap, x1, x0);
+      const __m512d cl = _mm512_roundscale_pd(_mm512_sub_pd(_mm512_sub_pd(lo, _mm512_set1_pd(0.5)), _mm512_set1_pd(kPad)), _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC);
+      const __m512d fh = _mm512_roundscale_pd(_mm512_add_pd(_mm512_add_pd(hi, _mm512_set1_pd(0.5)), _mm512_set1_pd(kPad)), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+      alignas(32) int c0[8], c1[8];
+      _mm256_store_si256(reinterpret_cast<__m256i*>(c0), _mm256_max_epi32(_mm256_set1_epi32(u0), _mm512_cvttpd_epi32(cl)));
+      _mm256_store_si256(reinterpret_cast<__m256i*>(c1), _mm256_min_epi32(_mm256_set1_epi32(u1), _mm512_cvttpd_epi32(fh)));
+      for (int k = 0; k < 8; ++k)
+        for (int u = c0[k]; u <= c1[k]; ++u) mask[static_cast<std::size_t>(v + k) * camera.width + u] |= bit;
+    }
+    return v;
+  }
+#endif
 
   // Distance along a sample (horizontal direction dx, dy) to the plane `key1` (infinity when the
   // sample does not meet it, for a wall within its extent).
