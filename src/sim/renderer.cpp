@@ -650,6 +650,7 @@ struct Renderer::Impl {
       int e = e0;
 #ifdef SQUINT_RENDER_SIMD
       if (avx512) e = WallEdgesSimd(static_cast<int>(w), e0, e1, across, other, num, base, lo_e, hi_e);
+      else if (simd) e = WallEdgesAvx2(static_cast<int>(w), e0, e1, across, other, num, base, lo_e, hi_e);
 #endif
       for (; e <= e1; ++e) {
         if (std::abs(across[e]) < 1e-12) continue;
@@ -1436,6 +1437,8 @@ struct Renderer::Impl {
 #ifdef SQUINT_RENDER_SIMD
       if (avx512) {
         ColumnBoundsSimd(u, t, near, any_obstacle);
+      } else if (simd) {
+        ColumnBoundsAvx2(u, t, near, any_obstacle);
       } else
 #endif
       {
@@ -1597,6 +1600,7 @@ struct Renderer::Impl {
     int v = v0;
 #ifdef SQUINT_RENDER_SIMD
     if (avx512 && std::abs(dv) > 1e-9) v = MarkRowsSimd(ua, ub, va, dv, u0, u1, v0, v1, bit);
+    else if (simd && std::abs(dv) > 1e-9) v = MarkRowsAvx2(ua, ub, va, dv, u0, u1, v0, v1, bit);
 #endif
     for (; v <= v1; ++v) {
       // The segment's columns over rows [v - 0.5 - pad, v + 0.5 + pad] (u is affine in v).
@@ -2161,6 +2165,70 @@ struct Renderer::Impl {
     __m128 c0, c1;
     LoadPairs4(wl.irr, cell, c0, c1);
     return _mm256_add_pd(_mm256_cvtps_pd(c0), _mm256_mul_pd(_mm256_sub_pd(fu, _mm256_cvtepi32_pd(iu)), _mm256_cvtps_pd(_mm_sub_ps(c1, c0))));
+  }
+
+  // WallEdgesSimd, four edges per AVX2 step.
+  [[gnu::target("avx2")]] int WallEdgesAvx2(int w, int e0, int e1, const double* across, const double* other, double num, double base,
+                                            double lo_e, double hi_e) {
+    const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7FFFFFFFFFFFFFFFll));
+    int e = e0;
+    for (; e + 3 <= e1; e += 4) {
+      const __m256d a = _mm256_loadu_pd(across + e), et = _mm256_loadu_pd(&edge_t[e]);
+      const __m256d t = _mm256_div_pd(_mm256_set1_pd(num), a);
+      const __m256d along = _mm256_add_pd(_mm256_set1_pd(base), _mm256_mul_pd(t, _mm256_loadu_pd(other + e)));
+      const __m256d take = _mm256_and_pd(
+          _mm256_and_pd(_mm256_cmp_pd(_mm256_and_pd(a, abs_mask), _mm256_set1_pd(1e-12), _CMP_NLT_UQ), _mm256_cmp_pd(t, _mm256_setzero_pd(), _CMP_NLE_UQ)),
+          _mm256_and_pd(_mm256_cmp_pd(t, et, _CMP_NGE_UQ),
+                        _mm256_and_pd(_mm256_cmp_pd(along, _mm256_set1_pd(lo_e), _CMP_NLT_UQ), _mm256_cmp_pd(along, _mm256_set1_pd(hi_e), _CMP_NGT_UQ))));
+      _mm256_maskstore_pd(&edge_t[e], _mm256_castpd_si256(take), t);
+      _mm_maskstore_epi32(&edge_wall[e], Mask32(take), _mm_set1_epi32(w));
+    }
+    return e;
+  }
+
+  // ColumnBoundsSimd, four bins per AVX2 step.
+  [[gnu::target("avx2")]] void ColumnBoundsAvx2(int u, double& t, double& near, bool& any_obstacle) const {
+    const int lo = col_bin_lo[u], hi = col_bin_hi[u];
+    const __m128i lane = _mm_setr_epi32(0, 1, 2, 3);
+    const __m256d inf = _mm256_set1_pd(kInf);
+    __m256d tv = _mm256_setzero_pd(), nv = inf;
+    __m128i listed = _mm_setzero_si128();
+    for (int e = lo; e <= hi + 1; e += 4) {
+      const __m128i me = _mm_cmpgt_epi32(_mm_set1_epi32(hi + 2 - e), lane), mb = _mm_cmpgt_epi32(_mm_set1_epi32(hi + 1 - e), lane);
+      tv = _mm256_max_pd(tv, _mm256_maskload_pd(&edge_t[e], _mm256_cvtepi32_epi64(me)));  // (a lane left out reads 0)
+      nv = _mm256_min_pd(nv, _mm256_blendv_pd(inf, _mm256_maskload_pd(&bin_near[e], _mm256_cvtepi32_epi64(mb)), Mask64(mb)));
+      listed = _mm_or_si128(listed, _mm_cmpgt_epi32(_mm_maskload_epi32(&bin_count[e], mb), _mm_setzero_si128()));
+    }
+    t = HMax4(tv);
+    near = HMin4(nv);
+    any_obstacle = Bits32(listed) != 0;
+  }
+
+  // MarkRowsSimd, four rows per AVX2 step.
+  [[gnu::target("avx2")]] int MarkRowsAvx2(double ua, double ub, double va, double dv, int u0, int u1, int v0, int v1, std::uint8_t bit) {
+    constexpr double kPad = 1e-3;
+    const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+    const __m256d vav = _mm256_set1_pd(va), dvv = _mm256_set1_pd(dv), uav = _mm256_set1_pd(ua), dua = _mm256_set1_pd(ub - ua);
+    int v = v0;
+    for (; v + 3 <= v1; v += 4) {
+      const __m256d vd = _mm256_cvtepi32_pd(_mm_add_epi32(_mm_set1_epi32(v), _mm_setr_epi32(0, 1, 2, 3)));
+      const __m256d r0 = _mm256_div_pd(_mm256_sub_pd(_mm256_sub_pd(_mm256_sub_pd(vd, _mm256_set1_pd(0.5)), _mm256_set1_pd(kPad)), vav), dvv);
+      const __m256d r1 = _mm256_div_pd(_mm256_sub_pd(_mm256_add_pd(_mm256_add_pd(vd, _mm256_set1_pd(0.5)), _mm256_set1_pd(kPad)), vav), dvv);
+      // std::clamp(r, 0.0, 1.0): r < 0 ? 0 : (1 < r ? 1 : r)
+      const __m256d t0 = _mm256_blendv_pd(_mm256_blendv_pd(r0, one, _mm256_cmp_pd(one, r0, _CMP_LT_OQ)), zero, _mm256_cmp_pd(r0, zero, _CMP_LT_OQ));
+      const __m256d t1 = _mm256_blendv_pd(_mm256_blendv_pd(r1, one, _mm256_cmp_pd(one, r1, _CMP_LT_OQ)), zero, _mm256_cmp_pd(r1, zero, _CMP_LT_OQ));
+      const __m256d x0 = _mm256_add_pd(uav, _mm256_mul_pd(t0, dua)), x1 = _mm256_add_pd(uav, _mm256_mul_pd(t1, dua));
+      const __m256d swap = _mm256_cmp_pd(x1, x0, _CMP_LT_OQ);  // std::min(x0, x1) is x1 there, std::max x0
+      const __m256d lo = _mm256_blendv_pd(x0, x1, swap), hi = _mm256_blendv_pd(x1, x0, swap);
+      const __m256d cl = _mm256_round_pd(_mm256_sub_pd(_mm256_sub_pd(lo, _mm256_set1_pd(0.5)), _mm256_set1_pd(kPad)), _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC);
+      const __m256d fh = _mm256_round_pd(_mm256_add_pd(_mm256_add_pd(hi, _mm256_set1_pd(0.5)), _mm256_set1_pd(kPad)), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+      alignas(16) int c0[4], c1[4];
+      _mm_store_si128(reinterpret_cast<__m128i*>(c0), _mm_max_epi32(_mm_set1_epi32(u0), _mm256_cvttpd_epi32(cl)));
+      _mm_store_si128(reinterpret_cast<__m128i*>(c1), _mm_min_epi32(_mm_set1_epi32(u1), _mm256_cvttpd_epi32(fh)));
+      for (int k = 0; k < 4; ++k)
+        for (int u = c0[k]; u <= c1[k]; ++u) mask[static_cast<std::size_t>(v + k) * camera.width + u] |= bit;
+    }
+    return v;
   }
 
   // PlanesSimd, four samples per AVX2 step.
