@@ -2489,12 +2489,26 @@ struct Renderer::Impl {
         const __m128i mats_w = _mm_castps_si128(mats_f);
         __m128i ok32 = Mask32(ok);
         __m128i mat;
+        __m256d panel = _mm256_setzero_pd(), panel_val = _mm256_setzero_pd();  // (ceiling) on a light panel: its radiance
         if (surf == Surf::kFloor) {
           const __m128i flat_w = _mm_castps_si128(flat_f);
           ok32 = _mm_and_si128(ok32, _mm_cmpeq_epi32(_mm_srai_epi32(_mm_slli_epi32(flat_w, 16), 16), _mm_set1_epi32(-1)));
           mat = _mm_srai_epi32(_mm_slli_epi32(mats_w, 16), 16);  // floor_mat (low half)
         } else {
-          ok32 = _mm_and_si128(ok32, _mm_cmplt_epi32(_mm_castps_si128(light_f), _mm_setzero_si128()));
+          const __m128i light = _mm_castps_si128(light_f);
+          const __m128i in_cell = _mm_andnot_si128(_mm_cmplt_epi32(light, _mm_setzero_si128()), ok32);
+          if (Bits32(in_cell)) {  // Shade's panel test, lane by lane; a point of the cell off the panel is plain ceiling
+            alignas(16) int li[4];
+            _mm_store_si128(reinterpret_cast<__m128i*>(li), _mm_and_si128(light, in_cell));  // (lane 0's panel elsewhere)
+            const PanelFast* q[4] = {&panels[li[0]], &panels[li[1]], &panels[li[2]], &panels[li[3]]};
+            const __m256d cx = _mm256_setr_pd(q[0]->cx, q[1]->cx, q[2]->cx, q[3]->cx), cy = _mm256_setr_pd(q[0]->cy, q[1]->cy, q[2]->cy, q[3]->cy);
+            const __m256d hx = _mm256_setr_pd(q[0]->hx, q[1]->hx, q[2]->hx, q[3]->hx), hy = _mm256_setr_pd(q[0]->hy, q[1]->hy, q[2]->hy, q[3]->hy);
+            const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7FFFFFFFFFFFFFFFll));
+            panel = _mm256_and_pd(Mask64(in_cell), _mm256_and_pd(_mm256_cmp_pd(_mm256_and_pd(_mm256_sub_pd(x, cx), abs_mask), hx, _CMP_LE_OQ),
+                                                                 _mm256_cmp_pd(_mm256_and_pd(_mm256_sub_pd(y, cy), abs_mask), hy, _CMP_LE_OQ)));
+            panel_val = _mm256_setr_pd(q[0]->radiance, q[1]->radiance, q[2]->radiance, q[3]->radiance);
+          }
+          ok32 = _mm_andnot_si128(Mask32(panel), ok32);
           mat = _mm_srai_epi32(mats_w, 16);  // ceil_mat (high half)
         }
         ok = Mask64(ok32);
@@ -2505,6 +2519,8 @@ struct Renderer::Impl {
           const __m256d e = surf == Surf::kFloor ? irr : _mm256_add_pd(_mm256_set1_pd(world.ambient), _mm256_mul_pd(_mm256_set1_pd(kCeilingBounce), irr));
           res = _mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(albedo, texv), e), emission);
         }
+        res = _mm256_blendv_pd(res, panel_val, panel);
+        ok = _mm256_or_pd(ok, panel);
       } else {  // a wall that is no mirror
         const __m256d k = _mm256_cvtps_pd(_mm_loadu_ps(soa + 2 * nn + i0));
         const __m256d along = wall_x ? x : y;
