@@ -1377,6 +1377,7 @@ struct Renderer::Impl {
       // (fields written one by one: a whole SurfPt built on the stack and copied stalls on
       // store forwarding)
       SurfPt& p = corner_pt[i];
+      Hit hit;
       if (r != kInf && uniform_ceiling) {
         Surf surf = Surf::kWall;
         if (cs.k < 0 && cs.rk < r) {
@@ -1389,7 +1390,10 @@ struct Renderer::Impl {
         const double x = px + dx * r, y = py + dy * r;
         if (surf == Surf::kWall) {
           const WallFast& f = wf[id];
-          if (f.decals) goto full;
+          if (f.decals) {  // (Trace would find this hit again: described in full only)
+            hit.surf = Surf::kWall, hit.id = id, hit.r = r;
+            goto describe;
+          }
           const MatFast& m = mats[f.material];
           const std::uint32_t key1 = static_cast<std::uint32_t>(Surf::kWall) << 24 | (static_cast<std::uint32_t>(id) & 0xFFFFFFu);
           const std::uint32_t key2 = static_cast<std::uint32_t>(f.material) << 16;
@@ -1407,8 +1411,9 @@ struct Renderer::Impl {
           } else if (surf == Surf::kCeiling && cell.light < 0) {
             mat = cell.ceil_mat;
             a = mats[mat].albedo * (world.ambient + kCeilingBounce * cell.irr);
-          } else {
-            goto full;
+          } else {  // a flat item's or a light panel's cell
+            hit.surf = surf, hit.id = id, hit.r = r;
+            goto describe;
           }
           const std::uint32_t key1 = static_cast<std::uint32_t>(surf) << 24 | 0xFFFFFFu;
           const std::uint32_t key2 = static_cast<std::uint32_t>(mat) << 16;
@@ -1422,14 +1427,15 @@ struct Renderer::Impl {
       }
     full:
       {
-        double tdx, tdy;
-        const Hit hit = Trace(cs, tdx, tdy);
-        corner_r[i] = hit.r;
-        p = Describe(hit, px, py, cam_h, tdx, tdy, cs.k);
-        corner_cls[i] = (static_cast<std::uint64_t>(p.key1) << 32 | p.key2) | (p.exact ? 1ull << 63 : 0);
-        corner_tu[i] = p.tu;
-        corner_tv[i] = p.tv;
+        double tdx, tdy;  // (dx and dy again)
+        hit = Trace(cs, tdx, tdy);
       }
+    describe:
+      corner_r[i] = hit.r;
+      p = Describe(hit, px, py, cam_h, dx, dy, cs.k);
+      corner_cls[i] = (static_cast<std::uint64_t>(p.key1) << 32 | p.key2) | (p.exact ? 1ull << 63 : 0);
+      corner_tu[i] = p.tu;
+      corner_tv[i] = p.tv;
     }
     for (int u = 0; u < camera.width; ++u) {
       double t = 0, near = kInf;
