@@ -196,6 +196,8 @@ struct Renderer::Impl {
   bool avx512 = false;  // (simd) AVX-512, else AVX2
   std::vector<float> sample_soa;    // per pixel: its n*n samples' ca, then sa, k, rk (the same floats)
   std::vector<std::int32_t> sample_bin;  // per pixel: its samples' bins
+  std::vector<float> corner_ca, corner_sa;  // (simd) the corner rays' ca and sa, and their bins
+  std::vector<std::int32_t> corner_bin;
   std::vector<double> split_fx, split_fy;
   struct TexelsFast {  // per material, for PixelOnPlane's gathers (texels padded by 4 bytes)
     const std::uint8_t* texels;
@@ -329,6 +331,8 @@ struct Renderer::Impl {
           b[i] = sm.ca, b[nn + i] = sm.sa, b[2 * nn + i] = sm.k, b[3 * nn + i] = sm.rk;
           sample_bin[p * nn + i] = sm.bin;
         }
+      corner_ca.clear(), corner_sa.clear(), corner_bin.clear();
+      for (const Sample& c : corners) corner_ca.push_back(c.ca), corner_sa.push_back(c.sa), corner_bin.push_back(c.bin);
       split_fx.resize(nn);
       split_fy.resize(nn);
       const double inv_n = 1.0 / n;  // as PixelSplit steps
@@ -1352,7 +1356,12 @@ struct Renderer::Impl {
     const std::size_t nc = corners.size();
     // First the bearing-table walls of every corner ray (a short loop whose iterations overlap:
     // the wall divisions dominate), then the rest of Trace and Describe per corner.
-    for (std::size_t i = 0; i < nc; ++i) {
+    std::size_t i1 = 0;
+#ifdef SQUINT_RENDER_SIMD
+    if (avx512) i1 = CornerWallsSimd();
+    else if (simd) i1 = CornerWallsAvx2();
+#endif
+    for (std::size_t i = i1; i < nc; ++i) {
       const Sample& cs = corners[i];
       const double dx = cyaw * cs.ca - syaw * cs.sa, dy = syaw * cs.ca + cyaw * cs.sa;
       const int w0 = edge_wall[cs.bin], w1 = edge_wall[cs.bin + 1];
@@ -1697,6 +1706,30 @@ struct Renderer::Impl {
     const __m512d syy = _mm512_i32gather_pd(idx, wfb + kSy, 8), base = _mm512_i32gather_pd(idx, wfb + kBase, 8);
     const __m512d lo = _mm512_i32gather_pd(idx, wfb + kLo, 8), hi = _mm512_i32gather_pd(idx, wfb + kHi, 8);
     return WallDistance8(off, sx, syy, base, lo, hi, dx, dy);
+  }
+
+  // PrepareAdaptive's first loop (each corner ray's direction and nearest bearing-table wall),
+  // eight corners per AVX-512 step with its operations lane by lane. Returns the corners done.
+  [[gnu::target("avx512f,avx512vl,avx512dq")]] std::size_t CornerWallsSimd() {
+    const std::size_t nc = corners.size();
+    const __m512d cy = _mm512_set1_pd(cyaw), sy = _mm512_set1_pd(syaw);
+    std::size_t i = 0;
+    for (; i + 8 <= nc; i += 8) {
+      const __m512d ca = _mm512_cvtps_pd(_mm256_loadu_ps(&corner_ca[i])), sa = _mm512_cvtps_pd(_mm256_loadu_ps(&corner_sa[i]));
+      const __m512d dx = _mm512_sub_pd(_mm512_mul_pd(cy, ca), _mm512_mul_pd(sy, sa));
+      const __m512d dy = _mm512_add_pd(_mm512_mul_pd(sy, ca), _mm512_mul_pd(cy, sa));
+      const __m256i bin = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&corner_bin[i]));
+      const __m256i w0 = _mm256_i32gather_epi32(edge_wall.data(), bin, 4), w1 = _mm256_i32gather_epi32(edge_wall.data() + 1, bin, 4);
+      const __mmask8 same = _mm256_cmpeq_epi32_mask(w0, w1);
+      const __m512d t0 = WallDistance8(w0, dx, dy);
+      const __m512d t1 = same == 0xFF ? t0 : WallDistance8(w1, dx, dy);
+      const __mmask8 first = same | _mm512_cmp_pd_mask(t0, t1, _CMP_LE_OQ);  // (w1 == w0: w0 and t0)
+      _mm512_storeu_pd(&corner_dx[i], dx);
+      _mm512_storeu_pd(&corner_dy[i], dy);
+      _mm512_storeu_pd(&corner_r[i], _mm512_mask_blend_pd(first, t1, t0));
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(&corner_id[i]), _mm256_mask_blend_epi32(first, w1, w0));
+    }
+    return i;
   }
 
   // GridIndex for eight floor points, in floats from the start of `cells` (the cell's words).
@@ -2171,6 +2204,30 @@ struct Renderer::Impl {
     __m128 c0, c1;
     LoadPairs4(wl.irr, cell, c0, c1);
     return _mm256_add_pd(_mm256_cvtps_pd(c0), _mm256_mul_pd(_mm256_sub_pd(fu, _mm256_cvtepi32_pd(iu)), _mm256_cvtps_pd(_mm_sub_ps(c1, c0))));
+  }
+
+  // CornerWallsSimd, four corners per AVX2 step.
+  [[gnu::target("avx2")]] std::size_t CornerWallsAvx2() {
+    const std::size_t nc = corners.size();
+    const __m256d cy = _mm256_set1_pd(cyaw), sy = _mm256_set1_pd(syaw);
+    std::size_t i = 0;
+    for (; i + 4 <= nc; i += 4) {
+      const __m256d ca = _mm256_cvtps_pd(_mm_loadu_ps(&corner_ca[i])), sa = _mm256_cvtps_pd(_mm_loadu_ps(&corner_sa[i]));
+      const __m256d dx = _mm256_sub_pd(_mm256_mul_pd(cy, ca), _mm256_mul_pd(sy, sa));
+      const __m256d dy = _mm256_add_pd(_mm256_mul_pd(sy, ca), _mm256_mul_pd(cy, sa));
+      const int* b = &corner_bin[i];
+      const __m128i w0 = _mm_setr_epi32(edge_wall[b[0]], edge_wall[b[1]], edge_wall[b[2]], edge_wall[b[3]]);
+      const __m128i w1 = _mm_setr_epi32(edge_wall[b[0] + 1], edge_wall[b[1] + 1], edge_wall[b[2] + 1], edge_wall[b[3] + 1]);
+      const __m128i same = _mm_cmpeq_epi32(w0, w1);
+      const __m256d t0 = WallDistance4(w0, dx, dy);
+      const __m256d t1 = Bits32(same) == 0xF ? t0 : WallDistance4(w1, dx, dy);
+      const __m256d first = _mm256_or_pd(Mask64(same), _mm256_cmp_pd(t0, t1, _CMP_LE_OQ));  // (w1 == w0: w0 and t0)
+      _mm256_storeu_pd(&corner_dx[i], dx);
+      _mm256_storeu_pd(&corner_dy[i], dy);
+      _mm256_storeu_pd(&corner_r[i], _mm256_blendv_pd(t1, t0, first));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(&corner_id[i]), _mm_blendv_epi8(w1, w0, Mask32(first)));
+    }
+    return i;
   }
 
   // WallEdgesSimd, four edges per AVX2 step.
