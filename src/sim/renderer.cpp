@@ -196,12 +196,18 @@ struct Renderer::Impl {
   bool avx512 = false;  // (simd) AVX-512, else AVX2
   std::vector<float> sample_soa;    // per pixel: its n*n samples' ca, then sa, k, rk (the same floats)
   std::vector<std::int32_t> sample_bin;  // per pixel: its samples' bins
+  std::vector<float> corner_ca, corner_sa;  // (simd) the corner rays' ca and sa, and their bins
+  std::vector<std::int32_t> corner_bin;
   std::vector<double> split_fx, split_fy;
   struct TexelsFast {  // per material, for PixelOnPlane's gathers (texels padded by 4 bytes)
     const std::uint8_t* texels;
     float inv_texel_m, gain;
   };
-  std::vector<TexelsFast> texels_fast;  // per sample of a pixel: (i + 0.5) / n, (j + 0.5) / n (PixelSplit)
+  std::vector<TexelsFast> texels_fast;
+  struct PanelFast {  // per light, for ShadeOnPlaneSimd: its panel and the panel's radiance (as Shade)
+    double cx, cy, hx, hy, radiance;
+  };
+  std::vector<PanelFast> panels;  // per sample of a pixel: (i + 0.5) / n, (j + 0.5) / n (PixelSplit)
   std::vector<Sample> corners;       // (width + 1) × (height + 1) rays through the pixel corners
   std::vector<Eigen::Vector3d> corner_dir;  // their robot-frame directions, unnormalised (affine in the image)
   std::vector<int> col_bin_lo, col_bin_hi;  // per pixel column: bearing bins its rays may use
@@ -325,6 +331,8 @@ struct Renderer::Impl {
           b[i] = sm.ca, b[nn + i] = sm.sa, b[2 * nn + i] = sm.k, b[3 * nn + i] = sm.rk;
           sample_bin[p * nn + i] = sm.bin;
         }
+      corner_ca.clear(), corner_sa.clear(), corner_bin.clear();
+      for (const Sample& c : corners) corner_ca.push_back(c.ca), corner_sa.push_back(c.sa), corner_bin.push_back(c.bin);
       split_fx.resize(nn);
       split_fy.resize(nn);
       const double inv_n = 1.0 / n;  // as PixelSplit steps
@@ -391,6 +399,10 @@ struct Renderer::Impl {
     for (const Corridor& c : world.corridors) uniform_ceiling = uniform_ceiling && c.height_m == ceiling_h;
 
     BuildLightMaps();
+    panels.clear();
+    for (const Light& lt : world.lights)
+      panels.push_back({lt.centre.x(), lt.centre.y(), lt.half_x, lt.half_y,
+                        lt.on ? kLightPanelRadiance * std::max(0.3, lt.intensity) : kOffPanelRadiance});
     texels_fast.clear();
     if (simd)
       for (detail::TextureTable& t : tex) {
@@ -437,6 +449,9 @@ struct Renderer::Impl {
       const bool clear = y - q > 1e-9 && q + 1 - y > 1e-9 && std::abs(q) <= 127;
       noise_steps[i] = clear ? static_cast<std::int8_t>(q) : kNoiseExact;
     }
+    // (RespondRowSimd reads both tables by 32-bit gathers: three bytes of padding)
+    gamma_lut.resize(kGammaLutSize + 3, 0);
+    noise_steps.resize(normal_table.size() + 3, 0);
   }
 
   // The lights within reach of p and not hidden from it by a wall (2-D visibility: walls reach
@@ -636,7 +651,12 @@ struct Renderer::Impl {
       const double* other = ws.along_x ? edge_dx.data() : edge_dy.data();
       const double num = ws.coord - (ws.along_x ? py : px), base = ws.along_x ? px : py;
       const double lo_e = ws.lo - 1e-9, hi_e = ws.hi + 1e-9;
-      for (int e = e0; e <= e1; ++e) {
+      int e = e0;
+#ifdef SQUINT_RENDER_SIMD
+      if (avx512) e = WallEdgesSimd(static_cast<int>(w), e0, e1, across, other, num, base, lo_e, hi_e);
+      else if (simd) e = WallEdgesAvx2(static_cast<int>(w), e0, e1, across, other, num, base, lo_e, hi_e);
+#endif
+      for (; e <= e1; ++e) {
         if (std::abs(across[e]) < 1e-12) continue;
         const double t = num / across[e];
         const double along = base + t * other[e];
@@ -682,6 +702,27 @@ struct Renderer::Impl {
       }
     }
   }
+
+#ifdef SQUINT_RENDER_SIMD
+  // The bearing table's loop over edges [e0, e1] for wall w, eight edges per AVX-512 step with the
+  // scalar loop's tests (each negated, as its `continue` is taken): the edges it covers, from e0.
+  [[gnu::target("avx512f,avx512vl,avx512dq")]] int WallEdgesSimd(int w, int e0, int e1, const double* across, const double* other,
+                                                                double num, double base, double lo_e, double hi_e) {
+    int e = e0;
+    for (; e + 7 <= e1; e += 8) {
+      const __m512d a = _mm512_loadu_pd(across + e), et = _mm512_loadu_pd(&edge_t[e]);
+      const __m512d t = _mm512_div_pd(_mm512_set1_pd(num), a);
+      const __m512d along = _mm512_add_pd(_mm512_set1_pd(base), _mm512_mul_pd(t, _mm512_loadu_pd(other + e)));
+      const __mmask8 take = _mm512_cmp_pd_mask(_mm512_abs_pd(a), _mm512_set1_pd(1e-12), _CMP_NLT_UQ) &
+                            _mm512_cmp_pd_mask(t, _mm512_setzero_pd(), _CMP_NLE_UQ) & _mm512_cmp_pd_mask(t, et, _CMP_NGE_UQ) &
+                            _mm512_cmp_pd_mask(along, _mm512_set1_pd(lo_e), _CMP_NLT_UQ) &
+                            _mm512_cmp_pd_mask(along, _mm512_set1_pd(hi_e), _CMP_NGT_UQ);
+      _mm512_mask_storeu_pd(&edge_t[e], take, t);
+      _mm256_mask_storeu_epi32(&edge_wall[e], take, _mm256_set1_epi32(w));
+    }
+    return e;
+  }
+#endif
 
   // The body's irradiance this frame: its side at mid-height for kBodyDirs outward normals and
   // its top, from the lights visible from the robot's centre (as obstacles are lit; the body
@@ -867,6 +908,13 @@ struct Renderer::Impl {
         hit.r = rc;
       }
     }
+    TraceRest(s, dx, dy, hit);
+    return hit;
+  }
+
+  // Trace's obstacle search and stepped-ceiling correction, for `hit` the nearest wall, floor or
+  // ceiling along sample s (horizontal direction dx, dy).
+  [[gnu::always_inline]] void TraceRest(const Sample& s, double dx, double dy, Hit& hit) const {
     const int cnt = bin_count[s.bin];
     // An obstacle's entry distance is at least its bounding circle's nearest distance: none
     // in the bin can be met before the hit when the nearest lies beyond it (with a margin).
@@ -884,7 +932,6 @@ struct Renderer::Impl {
       const double h2 = world.CeilingAt({px + dx * hit.r, py + dy * hit.r});
       if (h2 > cam_h && h2 != frame_ceiling) hit.r = (h2 - cam_h) / s.k;
     }
-    return hit;
   }
 
   // The slow path for mirror reflections: any origin, all walls and obstacles.
@@ -1206,6 +1253,35 @@ struct Renderer::Impl {
   double PixelTraced(const Sample* s) const {
     const int nn = n * n;
     double sum = 0;
+#ifdef SQUINT_RENDER_SIMD
+    // With the vector paths: each sample's nearest wall, floor or ceiling along the bearing table
+    // as PixelPlanes finds it (PlanesSimd / PlanesAvx2 with no planes of the pixel's own: Trace's
+    // operations lane by lane), then the rest of Trace and the shading one by one.
+    if (simd) {
+      double sdx[kMaxSamples], sdy[kMaxSamples], sr[kMaxSamples];
+      int sid[kMaxSamples], sq[kMaxSamples], count[5] = {0, 0, 0, 0, 0};
+      Surf ss[kMaxSamples];
+      const std::uint32_t kq[4] = {0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu};
+      const bool pq[5] = {false, false, false, false, false};
+      const std::size_t pixel = static_cast<std::size_t>(s - samples.data()) / nn;
+      if (avx512 ? PlanesSimd(pixel, true, 0, nullptr, kq, pq, sdx, sdy, sr, sid, ss, sq, count, nullptr)
+                 : PlanesAvx2(pixel, true, 0, nullptr, kq, pq, sdx, sdy, sr, sid, ss, sq, count, nullptr)) {
+        const int depth = has_mirrors ? 0 : 1;
+        for (int i = 0; i < nn; ++i) {
+          double dx = sdx[i], dy = sdy[i];
+          Hit hit;
+          if (sq[i] < 0) {  // a sliver wall inside the bin: Trace in full
+            hit = Trace(s[i], dx, dy);
+          } else {
+            hit.surf = ss[i], hit.id = sid[i], hit.r = sr[i];
+            TraceRest(s[i], dx, dy, hit);
+          }
+          sum += Shade(hit, px, py, cam_h, dx, dy, s[i].k, depth);
+        }
+        return sum / nn;
+      }
+    }
+#endif
     for (int i = 0; i < nn; ++i, ++s) {
       double dx, dy;
       const Hit hit = Trace(*s, dx, dy);
@@ -1280,7 +1356,12 @@ struct Renderer::Impl {
     const std::size_t nc = corners.size();
     // First the bearing-table walls of every corner ray (a short loop whose iterations overlap:
     // the wall divisions dominate), then the rest of Trace and Describe per corner.
-    for (std::size_t i = 0; i < nc; ++i) {
+    std::size_t i1 = 0;
+#ifdef SQUINT_RENDER_SIMD
+    if (avx512) i1 = CornerWallsSimd();
+    else if (simd) i1 = CornerWallsAvx2();
+#endif
+    for (std::size_t i = i1; i < nc; ++i) {
       const Sample& cs = corners[i];
       const double dx = cyaw * cs.ca - syaw * cs.sa, dy = syaw * cs.ca + cyaw * cs.sa;
       const int w0 = edge_wall[cs.bin], w1 = edge_wall[cs.bin + 1];
@@ -1305,6 +1386,7 @@ struct Renderer::Impl {
       // (fields written one by one: a whole SurfPt built on the stack and copied stalls on
       // store forwarding)
       SurfPt& p = corner_pt[i];
+      Hit hit;
       if (r != kInf && uniform_ceiling) {
         Surf surf = Surf::kWall;
         if (cs.k < 0 && cs.rk < r) {
@@ -1317,7 +1399,10 @@ struct Renderer::Impl {
         const double x = px + dx * r, y = py + dy * r;
         if (surf == Surf::kWall) {
           const WallFast& f = wf[id];
-          if (f.decals) goto full;
+          if (f.decals) {  // (Trace would find this hit again: described in full only)
+            hit.surf = Surf::kWall, hit.id = id, hit.r = r;
+            goto describe;
+          }
           const MatFast& m = mats[f.material];
           const std::uint32_t key1 = static_cast<std::uint32_t>(Surf::kWall) << 24 | (static_cast<std::uint32_t>(id) & 0xFFFFFFu);
           const std::uint32_t key2 = static_cast<std::uint32_t>(f.material) << 16;
@@ -1335,8 +1420,9 @@ struct Renderer::Impl {
           } else if (surf == Surf::kCeiling && cell.light < 0) {
             mat = cell.ceil_mat;
             a = mats[mat].albedo * (world.ambient + kCeilingBounce * cell.irr);
-          } else {
-            goto full;
+          } else {  // a flat item's or a light panel's cell
+            hit.surf = surf, hit.id = id, hit.r = r;
+            goto describe;
           }
           const std::uint32_t key1 = static_cast<std::uint32_t>(surf) << 24 | 0xFFFFFFu;
           const std::uint32_t key2 = static_cast<std::uint32_t>(mat) << 16;
@@ -1350,24 +1436,35 @@ struct Renderer::Impl {
       }
     full:
       {
-        double tdx, tdy;
-        const Hit hit = Trace(cs, tdx, tdy);
-        corner_r[i] = hit.r;
-        p = Describe(hit, px, py, cam_h, tdx, tdy, cs.k);
-        corner_cls[i] = (static_cast<std::uint64_t>(p.key1) << 32 | p.key2) | (p.exact ? 1ull << 63 : 0);
-        corner_tu[i] = p.tu;
-        corner_tv[i] = p.tv;
+        double tdx, tdy;  // (dx and dy again)
+        hit = Trace(cs, tdx, tdy);
       }
+    describe:
+      corner_r[i] = hit.r;
+      p = Describe(hit, px, py, cam_h, dx, dy, cs.k);
+      corner_cls[i] = (static_cast<std::uint64_t>(p.key1) << 32 | p.key2) | (p.exact ? 1ull << 63 : 0);
+      corner_tu[i] = p.tu;
+      corner_tv[i] = p.tv;
     }
     for (int u = 0; u < camera.width; ++u) {
       double t = 0, near = kInf;
-      for (int e = col_bin_lo[u]; e <= col_bin_hi[u] + 1; ++e) t = std::max(t, edge_t[e]);
-      for (int b = col_bin_lo[u]; b <= col_bin_hi[u]; ++b) near = std::min(near, bin_near[b]);
+      bool any_obstacle = true;
+#ifdef SQUINT_RENDER_SIMD
+      if (avx512) {
+        ColumnBoundsSimd(u, t, near, any_obstacle);
+      } else if (simd) {
+        ColumnBoundsAvx2(u, t, near, any_obstacle);
+      } else
+#endif
+      {
+        for (int e = col_bin_lo[u]; e <= col_bin_hi[u] + 1; ++e) t = std::max(t, edge_t[e]);
+        for (int b = col_bin_lo[u]; b <= col_bin_hi[u]; ++b) near = std::min(near, bin_near[b]);
+      }
       col_max_t[u] = t;
       col_near[u] = near;
       int* list = &col_obs[static_cast<std::size_t>(u) * kMaxColObstacles];
       int cnt = 0;
-      for (int b = col_bin_lo[u]; b <= col_bin_hi[u] && cnt >= 0; ++b) {
+      for (int b = col_bin_lo[u]; any_obstacle && b <= col_bin_hi[u] && cnt >= 0; ++b) {
         if (bin_count[b] > kMaxBinObstacles) {
           cnt = -1;
           break;
@@ -1436,6 +1533,27 @@ struct Renderer::Impl {
     }
   }
 
+#ifdef SQUINT_RENDER_SIMD
+  // Column u's farthest bearing-table wall and nearest obstacle (maxima and minima of values
+  // that are positive or infinite: the same in any order), eight bins per AVX-512 step, and
+  // whether any of its bins lists an obstacle.
+  [[gnu::target("avx512f,avx512vl,avx512dq")]] void ColumnBoundsSimd(int u, double& t, double& near, bool& any_obstacle) const {
+    const int lo = col_bin_lo[u], hi = col_bin_hi[u];
+    __m512d tv = _mm512_setzero_pd(), nv = _mm512_set1_pd(kInf);
+    __mmask8 listed = 0;
+    for (int e = lo; e <= hi + 1; e += 8) {
+      const __mmask8 m = static_cast<__mmask8>(hi + 1 - e >= 7 ? 0xFF : (1u << (hi + 2 - e)) - 1);
+      tv = _mm512_mask_max_pd(tv, m, tv, _mm512_maskz_loadu_pd(m, &edge_t[e]));
+      const __mmask8 mb = static_cast<__mmask8>(hi - e >= 7 ? 0xFF : (hi < e ? 0 : (1u << (hi + 1 - e)) - 1));
+      nv = _mm512_mask_min_pd(nv, mb, nv, _mm512_maskz_loadu_pd(mb, &bin_near[e]));
+      listed |= _mm256_mask_cmpgt_epi32_mask(mb, _mm256_maskz_loadu_epi32(mb, &bin_count[e]), _mm256_setzero_si256());
+    }
+    t = _mm512_reduce_max_pd(tv);
+    near = _mm512_reduce_min_pd(nv);
+    any_obstacle = listed != 0;
+  }
+#endif
+
   // A world point in the camera frame (x right, y down, z along the optical axis).
   Eigen::Vector3d ToCamera(double x, double y, double z) const {
     const double rx = x - px, ry = y - py;
@@ -1494,7 +1612,12 @@ struct Renderer::Impl {
     for (int u = u0; u <= u1; ++u) far = std::max(far, col_max_t[u]);
     if (near > far * (1 + 1e-6) + 1e-6) return;  // behind the walls in every column it spans
     const double dv = vb - va;
-    for (int v = v0; v <= v1; ++v) {
+    int v = v0;
+#ifdef SQUINT_RENDER_SIMD
+    if (avx512 && std::abs(dv) > 1e-9) v = MarkRowsSimd(ua, ub, va, dv, u0, u1, v0, v1, bit);
+    else if (simd && std::abs(dv) > 1e-9) v = MarkRowsAvx2(ua, ub, va, dv, u0, u1, v0, v1, bit);
+#endif
+    for (; v <= v1; ++v) {
       // The segment's columns over rows [v - 0.5 - pad, v + 0.5 + pad] (u is affine in v).
       double lo = std::min(ua, ub), hi = std::max(ua, ub);
       if (std::abs(dv) > 1e-9) {
@@ -1507,6 +1630,38 @@ struct Renderer::Impl {
       for (int u = c0; u <= c1; ++u) mask[static_cast<std::size_t>(v) * camera.width + u] |= bit;
     }
   }
+
+#ifdef SQUINT_RENDER_SIMD
+  // MarkSegment's rows v0 .. v1 (|dv| > 1e-9), eight rows per AVX-512 step: each row's columns
+  // with MarkSegment's operations (std::clamp, std::min and std::max as the selects they are;
+  // ceil and floor exact), then its marks. Returns the first row it did not mark.
+  [[gnu::target("avx512f,avx512vl,avx512dq")]] int MarkRowsSimd(double ua, double ub, double va, double dv, int u0, int u1, int v0,
+                                                               int v1, std::uint8_t bit) {
+    constexpr double kPad = 1e-3;
+    const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1.0);
+    const __m512d vav = _mm512_set1_pd(va), dvv = _mm512_set1_pd(dv), uav = _mm512_set1_pd(ua), dua = _mm512_set1_pd(ub - ua);
+    int v = v0;
+    for (; v + 7 <= v1; v += 8) {
+      const __m512d vd = _mm512_cvtepi32_pd(_mm256_add_epi32(_mm256_set1_epi32(v), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)));
+      const __m512d r0 = _mm512_div_pd(_mm512_sub_pd(_mm512_sub_pd(_mm512_sub_pd(vd, _mm512_set1_pd(0.5)), _mm512_set1_pd(kPad)), vav), dvv);
+      const __m512d r1 = _mm512_div_pd(_mm512_sub_pd(_mm512_add_pd(_mm512_add_pd(vd, _mm512_set1_pd(0.5)), _mm512_set1_pd(kPad)), vav), dvv);
+      // std::clamp(r, 0.0, 1.0): r < 0 ? 0 : (1 < r ? 1 : r)
+      const __m512d t0 = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(r0, zero, _CMP_LT_OQ), _mm512_mask_blend_pd(_mm512_cmp_pd_mask(one, r0, _CMP_LT_OQ), r0, one), zero);
+      const __m512d t1 = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(r1, zero, _CMP_LT_OQ), _mm512_mask_blend_pd(_mm512_cmp_pd_mask(one, r1, _CMP_LT_OQ), r1, one), zero);
+      const __m512d x0 = _mm512_add_pd(uav, _mm512_mul_pd(t0, dua)), x1 = _mm512_add_pd(uav, _mm512_mul_pd(t1, dua));
+      const __mmask8 swap = _mm512_cmp_pd_mask(x1, x0, _CMP_LT_OQ);  // std::min(x0, x1) is x1 there, std::max x0
+      const __m512d lo = _mm512_mask_blend_pd(swap, x0, x1), hi = _mm512_mask_blend_pd(swap, x1, x0);
+      const __m512d cl = _mm512_roundscale_pd(_mm512_sub_pd(_mm512_sub_pd(lo, _mm512_set1_pd(0.5)), _mm512_set1_pd(kPad)), _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC);
+      const __m512d fh = _mm512_roundscale_pd(_mm512_add_pd(_mm512_add_pd(hi, _mm512_set1_pd(0.5)), _mm512_set1_pd(kPad)), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+      alignas(32) int c0[8], c1[8];
+      _mm256_store_si256(reinterpret_cast<__m256i*>(c0), _mm256_max_epi32(_mm256_set1_epi32(u0), _mm512_cvttpd_epi32(cl)));
+      _mm256_store_si256(reinterpret_cast<__m256i*>(c1), _mm256_min_epi32(_mm256_set1_epi32(u1), _mm512_cvttpd_epi32(fh)));
+      for (int k = 0; k < 8; ++k)
+        for (int u = c0[k]; u <= c1[k]; ++u) mask[static_cast<std::size_t>(v + k) * camera.width + u] |= bit;
+    }
+    return v;
+  }
+#endif
 
   // Distance along a sample (horizontal direction dx, dy) to the plane `key1` (infinity when the
   // sample does not meet it, for a wall within its extent).
@@ -1521,7 +1676,26 @@ struct Renderer::Impl {
 
 #ifdef SQUINT_RENDER_SIMD
   // WallDistance for eight walls (w, -1 for none) and directions, lane by lane.
+  // WallDistance for eight directions from a wall's fields (each lane its wall's), lane by lane.
+  [[gnu::target("avx512f,avx512vl,avx512dq"), gnu::always_inline]] static inline __m512d WallDistance8(__m512d off, __m512d sx, __m512d syy,
+                                                                                                     __m512d base, __m512d lo, __m512d hi,
+                                                                                                     __m512d dx, __m512d dy) {
+    const __m512d t = _mm512_div_pd(off, _mm512_add_pd(_mm512_mul_pd(sx, dx), _mm512_mul_pd(syy, dy)));
+    const __m512d along = _mm512_add_pd(base, _mm512_mul_pd(t, _mm512_add_pd(_mm512_mul_pd(syy, dx), _mm512_mul_pd(sx, dy))));
+    const __mmask8 ok = _mm512_cmp_pd_mask(t, _mm512_setzero_pd(), _CMP_GT_OQ) & _mm512_cmp_pd_mask(along, lo, _CMP_GE_OQ) &
+                        _mm512_cmp_pd_mask(along, hi, _CMP_LE_OQ);
+    return _mm512_mask_blend_pd(ok, _mm512_set1_pd(kInf), t);
+  }
+  // ... for one wall w (its fields broadcast, no gathers).
+  [[gnu::target("avx512f,avx512vl,avx512dq"), gnu::always_inline]] inline __m512d WallDistance8(int w, __m512d dx, __m512d dy) const {
+    const WallFast& f = wf[w];
+    return WallDistance8(_mm512_set1_pd(f.off), _mm512_set1_pd(f.sx), _mm512_set1_pd(f.sy), _mm512_set1_pd(f.base),
+                         _mm512_set1_pd(f.lo), _mm512_set1_pd(f.hi), dx, dy);
+  }
+  // ... for eight walls (w, -1 for none): one wall's fields broadcast when all lanes name it, else gathered.
   [[gnu::target("avx512f,avx512vl,avx512dq"), gnu::always_inline]] inline __m512d WallDistance8(__m256i w, __m512d dx, __m512d dy) const {
+    const int w_first = _mm256_cvtsi256_si32(w);
+    if (_mm256_cmpeq_epi32_mask(w, _mm256_set1_epi32(w_first)) == 0xFF) return WallDistance8(w_first, dx, dy);
     static_assert(sizeof(WallFast) % sizeof(double) == 0);
     constexpr int kWfStride = sizeof(WallFast) / sizeof(double);
     const double* wfb = reinterpret_cast<const double*>(wall_fast.data());
@@ -1531,11 +1705,31 @@ struct Renderer::Impl {
     const __m512d off = _mm512_i32gather_pd(idx, wfb + kOff, 8), sx = _mm512_i32gather_pd(idx, wfb + kSx, 8);
     const __m512d syy = _mm512_i32gather_pd(idx, wfb + kSy, 8), base = _mm512_i32gather_pd(idx, wfb + kBase, 8);
     const __m512d lo = _mm512_i32gather_pd(idx, wfb + kLo, 8), hi = _mm512_i32gather_pd(idx, wfb + kHi, 8);
-    const __m512d t = _mm512_div_pd(off, _mm512_add_pd(_mm512_mul_pd(sx, dx), _mm512_mul_pd(syy, dy)));
-    const __m512d along = _mm512_add_pd(base, _mm512_mul_pd(t, _mm512_add_pd(_mm512_mul_pd(syy, dx), _mm512_mul_pd(sx, dy))));
-    const __mmask8 ok = _mm512_cmp_pd_mask(t, _mm512_setzero_pd(), _CMP_GT_OQ) & _mm512_cmp_pd_mask(along, lo, _CMP_GE_OQ) &
-                        _mm512_cmp_pd_mask(along, hi, _CMP_LE_OQ);
-    return _mm512_mask_blend_pd(ok, _mm512_set1_pd(kInf), t);
+    return WallDistance8(off, sx, syy, base, lo, hi, dx, dy);
+  }
+
+  // PrepareAdaptive's first loop (each corner ray's direction and nearest bearing-table wall),
+  // eight corners per AVX-512 step with its operations lane by lane. Returns the corners done.
+  [[gnu::target("avx512f,avx512vl,avx512dq")]] std::size_t CornerWallsSimd() {
+    const std::size_t nc = corners.size();
+    const __m512d cy = _mm512_set1_pd(cyaw), sy = _mm512_set1_pd(syaw);
+    std::size_t i = 0;
+    for (; i + 8 <= nc; i += 8) {
+      const __m512d ca = _mm512_cvtps_pd(_mm256_loadu_ps(&corner_ca[i])), sa = _mm512_cvtps_pd(_mm256_loadu_ps(&corner_sa[i]));
+      const __m512d dx = _mm512_sub_pd(_mm512_mul_pd(cy, ca), _mm512_mul_pd(sy, sa));
+      const __m512d dy = _mm512_add_pd(_mm512_mul_pd(sy, ca), _mm512_mul_pd(cy, sa));
+      const __m256i bin = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&corner_bin[i]));
+      const __m256i w0 = _mm256_i32gather_epi32(edge_wall.data(), bin, 4), w1 = _mm256_i32gather_epi32(edge_wall.data() + 1, bin, 4);
+      const __mmask8 same = _mm256_cmpeq_epi32_mask(w0, w1);
+      const __m512d t0 = WallDistance8(w0, dx, dy);
+      const __m512d t1 = same == 0xFF ? t0 : WallDistance8(w1, dx, dy);
+      const __mmask8 first = same | _mm512_cmp_pd_mask(t0, t1, _CMP_LE_OQ);  // (w1 == w0: w0 and t0)
+      _mm512_storeu_pd(&corner_dx[i], dx);
+      _mm512_storeu_pd(&corner_dy[i], dy);
+      _mm512_storeu_pd(&corner_r[i], _mm512_mask_blend_pd(first, t1, t0));
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(&corner_id[i]), _mm256_mask_blend_epi32(first, w1, w0));
+    }
+    return i;
   }
 
   // GridIndex for eight floor points, in floats from the start of `cells` (the cell's words).
@@ -1594,7 +1788,8 @@ struct Renderer::Impl {
         const __m256i bin = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(bins_p + i0));
         const __m256i w0 = _mm256_i32gather_epi32(edge_wall.data(), bin, 4);
         const __m256i w1 = _mm256_i32gather_epi32(edge_wall.data() + 1, bin, 4);
-        const __m512d t0 = WallDistance8(w0, dx, dy), t1 = WallDistance8(w1, dx, dy);
+        const __m512d t0 = WallDistance8(w0, dx, dy);
+        const __m512d t1 = _mm256_cmpeq_epi32_mask(w0, w1) == 0xFF ? t0 : WallDistance8(w1, dx, dy);
         // w1 == w0 gives t1 == t0 bit for bit: the selection then keeps w0 and t0, as the scalar code does.
         const __mmask8 first = _mm512_cmp_pd_mask(t0, t1, _CMP_LE_OQ);
         id = _mm256_mask_blend_epi32(first, w1, w0);
@@ -1619,7 +1814,7 @@ struct Renderer::Impl {
           switch (static_cast<Surf>(keys[q] >> 24)) {
             case Surf::kFloor: rq = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(k, zero, _CMP_LT_OQ), inf, rk); break;
             case Surf::kCeiling: rq = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(k, zero, _CMP_GT_OQ), inf, _mm512_mul_pd(ceil_rel, rk)); break;
-            case Surf::kWall: rq = WallDistance8(_mm256_set1_epi32(static_cast<int>(keys[q] & 0xFFFFFFu)), dx, dy); break;
+            case Surf::kWall: rq = WallDistance8(static_cast<int>(keys[q] & 0xFFFFFFu), dx, dy); break;
             default: rq = inf; break;
           }
           const __mmask8 nearer = _mm512_cmp_pd_mask(rq, r, _CMP_LT_OQ);
@@ -1647,12 +1842,14 @@ struct Renderer::Impl {
       for (int c = 0; c < 5; ++c) count[c] += __builtin_popcount(_mm256_cmpeq_epi32_mask(q, _mm256_set1_epi32(c)));
       count[4] += __builtin_popcount(traced);
     }
-    // Each plain plane's samples: light-map values lane by lane, summed in sample order.
-    double e[kMaxSamples];
+    // Each plain plane's samples: light-map values lane by lane, summed in sample order (packed
+    // in that order, the plane's samples only, so that the sum takes no branch per sample).
+    double e[kMaxSamples + 8];
     for (int qq = 0; qq < np; ++qq) {
       if (count[qq] == 0) continue;
       PlainAccum& a = acc[qq];
       const auto psurf = static_cast<Surf>(keys[qq] >> 24);
+      int ne = 0;
       __m512d u_lo = inf, u_hi = _mm512_set1_pd(-kInf), v_lo = inf, v_hi = _mm512_set1_pd(-kInf);
       const __m512d pxv = _mm512_set1_pd(px), pyv = _mm512_set1_pd(py);
       for (int i0 = 0; i0 < nn; i0 += 8) {
@@ -1677,13 +1874,13 @@ struct Renderer::Impl {
           const __m512d irr = _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), m, gidx, &cells[0].irr, 4));
           ev = psurf == Surf::kCeiling ? _mm512_add_pd(_mm512_set1_pd(world.ambient), _mm512_mul_pd(_mm512_set1_pd(kCeilingBounce), irr)) : irr;
         }
-        _mm512_storeu_pd(e + i0, ev);
+        _mm512_storeu_pd(e + ne, _mm512_maskz_compress_pd(m, ev));
+        ne += __builtin_popcount(m);
         u_lo = _mm512_mask_min_pd(u_lo, m, u_lo, tu), u_hi = _mm512_mask_max_pd(u_hi, m, u_hi, tu);
         v_lo = _mm512_mask_min_pd(v_lo, m, v_lo, tv), v_hi = _mm512_mask_max_pd(v_hi, m, v_hi, tv);
       }
       double e_sum = 0;
-      for (int i = 0; i < nn; ++i)
-        if (sq[i] == qq) e_sum += e[i];
+      for (int i = 0; i < ne; ++i) e_sum += e[i];
       a.e_sum = e_sum;
       a.u_lo = _mm512_reduce_min_pd(u_lo), a.u_hi = _mm512_reduce_max_pd(u_hi);
       a.v_lo = _mm512_reduce_min_pd(v_lo), a.v_hi = _mm512_reduce_max_pd(v_hi);
@@ -1714,9 +1911,8 @@ struct Renderer::Impl {
     const __m512d hv = _mm512_set1_pd(h_rel), pxv = _mm512_set1_pd(px), pyv = _mm512_set1_pd(py), camz = _mm512_set1_pd(cam_h);
     const __m512d wcp = _mm512_set1_pd(wall_c - wall_p), wav = _mm512_set1_pd(wall_a);
     __m512d pul = inf, puh = ninf, pvl = inf, pvh = ninf, wul = inf, wuh = ninf, wvl = inf, wvh = ninf;
-    double pev[kMaxSamples], wev[kMaxSamples];
-    std::uint32_t on_bits[kMaxSamples / 8];
-    int on_plane = 0;
+    double pev[kMaxSamples + 8], wev[kMaxSamples + 8];  // each side's light-map values, packed in sample order
+    int on_plane = 0, off_plane = 0;
     for (int i0 = 0; i0 < nn; i0 += 8) {
       const __m512d fx = _mm512_loadu_pd(&split_fx[i0]), fy = _mm512_loadu_pd(&split_fy[i0]);
       // Per row (fy) the left and right ends, then along the row (fx), as the scalar loop steps.
@@ -1729,15 +1925,15 @@ struct Renderer::Impl {
       const __m512d sdz = _mm512_add_pd(z_l, _mm512_mul_pd(fx, _mm512_sub_pd(z_r, z_l)));
       const __mmask8 on = _mm512_cmp_pd_mask(_mm512_add_pd(g_l, _mm512_mul_pd(fx, _mm512_sub_pd(g_r, g_l))), zero, _CMP_GT_OQ);
       const __mmask8 off = static_cast<__mmask8>(~on);
-      on_bits[i0 / 8] = on;
-      on_plane += __builtin_popcount(on);
+
       if (on) {  // the floor or ceiling plane
         const __m512d t = _mm512_div_pd(hv, sdz);
         const __m512d x = _mm512_add_pd(pxv, _mm512_mul_pd(t, sdx)), y = _mm512_add_pd(pyv, _mm512_mul_pd(t, sdy));
         pul = _mm512_mask_min_pd(pul, on, pul, x), puh = _mm512_mask_max_pd(puh, on, puh, x);
         pvl = _mm512_mask_min_pd(pvl, on, pvl, y), pvh = _mm512_mask_max_pd(pvh, on, pvh, y);
         const __m256i gidx = GridWord8(x, y);
-        _mm512_storeu_pd(pev + i0, _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), on, gidx, &cells[0].irr, 4)));
+        _mm512_storeu_pd(pev + on_plane, _mm512_maskz_compress_pd(on, _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), on, gidx, &cells[0].irr, 4))));
+        on_plane += __builtin_popcount(on);
       }
       if (off) {  // the wall
         const __m512d across = along_x ? sdy : sdx, other = along_x ? sdx : sdy;
@@ -1745,14 +1941,13 @@ struct Renderer::Impl {
         const __m512d along = _mm512_add_pd(wav, _mm512_mul_pd(t, other)), z = _mm512_add_pd(camz, _mm512_mul_pd(t, sdz));
         wul = _mm512_mask_min_pd(wul, off, wul, along), wuh = _mm512_mask_max_pd(wuh, off, wuh, along);
         wvl = _mm512_mask_min_pd(wvl, off, wvl, z), wvh = _mm512_mask_max_pd(wvh, off, wvh, z);
-        _mm512_storeu_pd(wev + i0, WallIrradiance8(wl, along, z, off));
+        _mm512_storeu_pd(wev + off_plane, _mm512_maskz_compress_pd(off, WallIrradiance8(wl, along, z, off)));
+        off_plane += __builtin_popcount(off);
       }
     }
     double pe_sum = 0, we_sum = 0;
-    for (int i = 0; i < nn; ++i) {
-      if (on_bits[i / 8] >> (i % 8) & 1) pe_sum += pev[i];
-      else we_sum += wev[i];
-    }
+    for (int i = 0; i < on_plane; ++i) pe_sum += pev[i];
+    for (int i = 0; i < off_plane; ++i) we_sum += wev[i];
     pe = pe_sum, we = we_sum;
     pu_lo = _mm512_reduce_min_pd(pul), pu_hi = _mm512_reduce_max_pd(puh), pv_lo = _mm512_reduce_min_pd(pvl), pv_hi = _mm512_reduce_max_pd(pvh);
     wu_lo = _mm512_reduce_min_pd(wul), wu_hi = _mm512_reduce_max_pd(wuh), wv_lo = _mm512_reduce_min_pd(wvl), wv_hi = _mm512_reduce_max_pd(wvh);
@@ -1770,6 +1965,21 @@ struct Renderer::Impl {
     const double* mb = reinterpret_cast<const double*>(mats.data());
     const float* tfb = reinterpret_cast<const float*>(texels_fast.data());
     static_assert(sizeof(TexelsFast) == 16);
+    // One material in every lane read (the common case): its fields broadcast instead of gathered.
+    const int m_first = ok ? _mm256_cvtsi256_si32(_mm256_permutexvar_epi32(_mm256_set1_epi32(__builtin_ctz(ok)), mat)) : 0;
+    if (ok && !_mm256_mask_cmpneq_epi32_mask(ok, mat, _mm256_set1_epi32(m_first))) {
+      const TexelsFast& t = texels_fast[m_first];
+      const __m512d inv = _mm512_set1_pd(t.inv_texel_m);
+      const __m256i iu = _mm256_and_si256(_mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(u, inv), big)), m127);
+      const __m256i iv = _mm256_and_si256(_mm512_cvttpd_epi32(_mm512_add_pd(_mm512_mul_pd(v, inv), big)), m127);
+      const __m256i texel = _mm256_and_si256(
+          _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), ok, _mm256_add_epi32(_mm256_slli_epi32(iv, 7), iu), t.texels, 1),
+          _mm256_set1_epi32(0xFF));
+      texv = _mm512_cvtps_pd(_mm256_mul_ps(_mm256_cvtepi32_ps(texel), _mm256_set1_ps(t.gain)));
+      albedo = _mm512_set1_pd(mats[m_first].albedo);
+      emission = _mm512_set1_pd(mats[m_first].emission);
+      return;
+    }
     const __m256i m4 = _mm256_slli_epi32(mat, 2);
     const __m512d inv = _mm512_cvtps_pd(_mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, m4, tfb + 2, 4));
     const __m256 gain = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, m4, tfb + 3, 4);
@@ -1786,7 +1996,8 @@ struct Renderer::Impl {
 
   // PixelOnPlane's shading, eight samples per AVX-512 step, for the samples that Shade would
   // shade without a branch of its own: on the plane (finite r), the floor outside flat items,
-  // the ceiling outside light panels, a wall that is no mirror (its decals tested in order).
+  // the ceiling (its light panels tested as Shade does), a wall that is no mirror (its decals
+  // tested in order).
   // val[i]: Shade's radiance where done[i]; the others are left to Shade. (sdx, sdy, sr are
   // only read: non-const so that GCC 12 does not take them for uninitialised.)
   [[gnu::target("avx512f,avx512vl,avx512dq")]] void ShadeOnPlaneSimd(std::size_t pixel, Surf surf, int id, double* sdx,
@@ -1823,13 +2034,26 @@ struct Renderer::Impl {
         const __m256 irr_f = _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), ok, cw4, &cells[0].irr, 4);
         const __m256i mats_w = _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), ok, _mm256_add_epi32(cw4, _mm256_set1_epi32(1)), cell_words, 4);
         __m256i mat;
+        __mmask8 panel = 0;  // (ceiling) on a light panel: its radiance
+        __m512d panel_val = zero;
         if (surf == Surf::kFloor) {
           const __m256i flat = _mm256_srai_epi32(_mm256_slli_epi32(_mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), ok, _mm256_add_epi32(cw4, _mm256_set1_epi32(2)), cell_words, 4), 16), 16);
           ok &= _mm256_cmpeq_epi32_mask(flat, _mm256_set1_epi32(-1));
           mat = _mm256_srai_epi32(_mm256_slli_epi32(mats_w, 16), 16);  // floor_mat (low half)
         } else {
           const __m256i light = _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), ok, _mm256_add_epi32(cw4, _mm256_set1_epi32(3)), cell_words, 4);
-          ok &= _mm256_cmplt_epi32_mask(light, _mm256_setzero_si256());
+          const __mmask8 in_cell = ok & _mm256_cmpge_epi32_mask(light, _mm256_setzero_si256());
+          if (in_cell) {  // Shade's panel test, lane by lane; a point of the cell off the panel is plain ceiling
+            static_assert(sizeof(PanelFast) == 5 * sizeof(double));
+            const __m256i li = _mm256_mullo_epi32(light, _mm256_set1_epi32(5));
+            const double* pb = &panels[0].cx;
+            const __m512d cx = _mm512_mask_i32gather_pd(zero, in_cell, li, pb, 8), cy = _mm512_mask_i32gather_pd(zero, in_cell, li, pb + 1, 8);
+            const __m512d hx = _mm512_mask_i32gather_pd(zero, in_cell, li, pb + 2, 8), hy = _mm512_mask_i32gather_pd(zero, in_cell, li, pb + 3, 8);
+            panel = in_cell & _mm512_cmp_pd_mask(_mm512_abs_pd(_mm512_sub_pd(x, cx)), hx, _CMP_LE_OQ) &
+                    _mm512_cmp_pd_mask(_mm512_abs_pd(_mm512_sub_pd(y, cy)), hy, _CMP_LE_OQ);
+            panel_val = _mm512_mask_i32gather_pd(zero, panel, li, pb + 4, 8);
+          }
+          ok &= static_cast<__mmask8>(~panel);
           mat = _mm256_srai_epi32(mats_w, 16);  // ceil_mat (high half)
         }
         if (ok) {
@@ -1839,6 +2063,8 @@ struct Renderer::Impl {
           const __m512d e = surf == Surf::kFloor ? irr : _mm512_add_pd(_mm512_set1_pd(world.ambient), _mm512_mul_pd(_mm512_set1_pd(kCeilingBounce), irr));
           res = _mm512_add_pd(_mm512_mul_pd(_mm512_mul_pd(albedo, texv), e), emission);
         }
+        res = _mm512_mask_blend_pd(panel, res, panel_val);
+        ok |= panel;
       } else if (surf == Surf::kWall && wall_ok) {
         const __m512d k = _mm512_cvtps_pd(_mm256_loadu_ps(soa + 2 * nn + i0));
         const __m512d along = wall_x ? x : y;
@@ -1978,6 +2204,94 @@ struct Renderer::Impl {
     __m128 c0, c1;
     LoadPairs4(wl.irr, cell, c0, c1);
     return _mm256_add_pd(_mm256_cvtps_pd(c0), _mm256_mul_pd(_mm256_sub_pd(fu, _mm256_cvtepi32_pd(iu)), _mm256_cvtps_pd(_mm_sub_ps(c1, c0))));
+  }
+
+  // CornerWallsSimd, four corners per AVX2 step.
+  [[gnu::target("avx2")]] std::size_t CornerWallsAvx2() {
+    const std::size_t nc = corners.size();
+    const __m256d cy = _mm256_set1_pd(cyaw), sy = _mm256_set1_pd(syaw);
+    std::size_t i = 0;
+    for (; i + 4 <= nc; i += 4) {
+      const __m256d ca = _mm256_cvtps_pd(_mm_loadu_ps(&corner_ca[i])), sa = _mm256_cvtps_pd(_mm_loadu_ps(&corner_sa[i]));
+      const __m256d dx = _mm256_sub_pd(_mm256_mul_pd(cy, ca), _mm256_mul_pd(sy, sa));
+      const __m256d dy = _mm256_add_pd(_mm256_mul_pd(sy, ca), _mm256_mul_pd(cy, sa));
+      const int* b = &corner_bin[i];
+      const __m128i w0 = _mm_setr_epi32(edge_wall[b[0]], edge_wall[b[1]], edge_wall[b[2]], edge_wall[b[3]]);
+      const __m128i w1 = _mm_setr_epi32(edge_wall[b[0] + 1], edge_wall[b[1] + 1], edge_wall[b[2] + 1], edge_wall[b[3] + 1]);
+      const __m128i same = _mm_cmpeq_epi32(w0, w1);
+      const __m256d t0 = WallDistance4(w0, dx, dy);
+      const __m256d t1 = Bits32(same) == 0xF ? t0 : WallDistance4(w1, dx, dy);
+      const __m256d first = _mm256_or_pd(Mask64(same), _mm256_cmp_pd(t0, t1, _CMP_LE_OQ));  // (w1 == w0: w0 and t0)
+      _mm256_storeu_pd(&corner_dx[i], dx);
+      _mm256_storeu_pd(&corner_dy[i], dy);
+      _mm256_storeu_pd(&corner_r[i], _mm256_blendv_pd(t1, t0, first));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(&corner_id[i]), _mm_blendv_epi8(w1, w0, Mask32(first)));
+    }
+    return i;
+  }
+
+  // WallEdgesSimd, four edges per AVX2 step.
+  [[gnu::target("avx2")]] int WallEdgesAvx2(int w, int e0, int e1, const double* across, const double* other, double num, double base,
+                                            double lo_e, double hi_e) {
+    const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7FFFFFFFFFFFFFFFll));
+    int e = e0;
+    for (; e + 3 <= e1; e += 4) {
+      const __m256d a = _mm256_loadu_pd(across + e), et = _mm256_loadu_pd(&edge_t[e]);
+      const __m256d t = _mm256_div_pd(_mm256_set1_pd(num), a);
+      const __m256d along = _mm256_add_pd(_mm256_set1_pd(base), _mm256_mul_pd(t, _mm256_loadu_pd(other + e)));
+      const __m256d take = _mm256_and_pd(
+          _mm256_and_pd(_mm256_cmp_pd(_mm256_and_pd(a, abs_mask), _mm256_set1_pd(1e-12), _CMP_NLT_UQ), _mm256_cmp_pd(t, _mm256_setzero_pd(), _CMP_NLE_UQ)),
+          _mm256_and_pd(_mm256_cmp_pd(t, et, _CMP_NGE_UQ),
+                        _mm256_and_pd(_mm256_cmp_pd(along, _mm256_set1_pd(lo_e), _CMP_NLT_UQ), _mm256_cmp_pd(along, _mm256_set1_pd(hi_e), _CMP_NGT_UQ))));
+      _mm256_maskstore_pd(&edge_t[e], _mm256_castpd_si256(take), t);
+      _mm_maskstore_epi32(&edge_wall[e], Mask32(take), _mm_set1_epi32(w));
+    }
+    return e;
+  }
+
+  // ColumnBoundsSimd, four bins per AVX2 step.
+  [[gnu::target("avx2")]] void ColumnBoundsAvx2(int u, double& t, double& near, bool& any_obstacle) const {
+    const int lo = col_bin_lo[u], hi = col_bin_hi[u];
+    const __m128i lane = _mm_setr_epi32(0, 1, 2, 3);
+    const __m256d inf = _mm256_set1_pd(kInf);
+    __m256d tv = _mm256_setzero_pd(), nv = inf;
+    __m128i listed = _mm_setzero_si128();
+    for (int e = lo; e <= hi + 1; e += 4) {
+      const __m128i me = _mm_cmpgt_epi32(_mm_set1_epi32(hi + 2 - e), lane), mb = _mm_cmpgt_epi32(_mm_set1_epi32(hi + 1 - e), lane);
+      tv = _mm256_max_pd(tv, _mm256_maskload_pd(&edge_t[e], _mm256_cvtepi32_epi64(me)));  // (a lane left out reads 0)
+      nv = _mm256_min_pd(nv, _mm256_blendv_pd(inf, _mm256_maskload_pd(&bin_near[e], _mm256_cvtepi32_epi64(mb)), Mask64(mb)));
+      listed = _mm_or_si128(listed, _mm_cmpgt_epi32(_mm_maskload_epi32(&bin_count[e], mb), _mm_setzero_si128()));
+    }
+    t = HMax4(tv);
+    near = HMin4(nv);
+    any_obstacle = Bits32(listed) != 0;
+  }
+
+  // MarkRowsSimd, four rows per AVX2 step.
+  [[gnu::target("avx2")]] int MarkRowsAvx2(double ua, double ub, double va, double dv, int u0, int u1, int v0, int v1, std::uint8_t bit) {
+    constexpr double kPad = 1e-3;
+    const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+    const __m256d vav = _mm256_set1_pd(va), dvv = _mm256_set1_pd(dv), uav = _mm256_set1_pd(ua), dua = _mm256_set1_pd(ub - ua);
+    int v = v0;
+    for (; v + 3 <= v1; v += 4) {
+      const __m256d vd = _mm256_cvtepi32_pd(_mm_add_epi32(_mm_set1_epi32(v), _mm_setr_epi32(0, 1, 2, 3)));
+      const __m256d r0 = _mm256_div_pd(_mm256_sub_pd(_mm256_sub_pd(_mm256_sub_pd(vd, _mm256_set1_pd(0.5)), _mm256_set1_pd(kPad)), vav), dvv);
+      const __m256d r1 = _mm256_div_pd(_mm256_sub_pd(_mm256_add_pd(_mm256_add_pd(vd, _mm256_set1_pd(0.5)), _mm256_set1_pd(kPad)), vav), dvv);
+      // std::clamp(r, 0.0, 1.0): r < 0 ? 0 : (1 < r ? 1 : r)
+      const __m256d t0 = _mm256_blendv_pd(_mm256_blendv_pd(r0, one, _mm256_cmp_pd(one, r0, _CMP_LT_OQ)), zero, _mm256_cmp_pd(r0, zero, _CMP_LT_OQ));
+      const __m256d t1 = _mm256_blendv_pd(_mm256_blendv_pd(r1, one, _mm256_cmp_pd(one, r1, _CMP_LT_OQ)), zero, _mm256_cmp_pd(r1, zero, _CMP_LT_OQ));
+      const __m256d x0 = _mm256_add_pd(uav, _mm256_mul_pd(t0, dua)), x1 = _mm256_add_pd(uav, _mm256_mul_pd(t1, dua));
+      const __m256d swap = _mm256_cmp_pd(x1, x0, _CMP_LT_OQ);  // std::min(x0, x1) is x1 there, std::max x0
+      const __m256d lo = _mm256_blendv_pd(x0, x1, swap), hi = _mm256_blendv_pd(x1, x0, swap);
+      const __m256d cl = _mm256_round_pd(_mm256_sub_pd(_mm256_sub_pd(lo, _mm256_set1_pd(0.5)), _mm256_set1_pd(kPad)), _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC);
+      const __m256d fh = _mm256_round_pd(_mm256_add_pd(_mm256_add_pd(hi, _mm256_set1_pd(0.5)), _mm256_set1_pd(kPad)), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+      alignas(16) int c0[4], c1[4];
+      _mm_store_si128(reinterpret_cast<__m128i*>(c0), _mm_max_epi32(_mm_set1_epi32(u0), _mm256_cvttpd_epi32(cl)));
+      _mm_store_si128(reinterpret_cast<__m128i*>(c1), _mm_min_epi32(_mm_set1_epi32(u1), _mm256_cvttpd_epi32(fh)));
+      for (int k = 0; k < 4; ++k)
+        for (int u = c0[k]; u <= c1[k]; ++u) mask[static_cast<std::size_t>(v + k) * camera.width + u] |= bit;
+    }
+    return v;
   }
 
   // PlanesSimd, four samples per AVX2 step.
@@ -2238,12 +2552,26 @@ struct Renderer::Impl {
         const __m128i mats_w = _mm_castps_si128(mats_f);
         __m128i ok32 = Mask32(ok);
         __m128i mat;
+        __m256d panel = _mm256_setzero_pd(), panel_val = _mm256_setzero_pd();  // (ceiling) on a light panel: its radiance
         if (surf == Surf::kFloor) {
           const __m128i flat_w = _mm_castps_si128(flat_f);
           ok32 = _mm_and_si128(ok32, _mm_cmpeq_epi32(_mm_srai_epi32(_mm_slli_epi32(flat_w, 16), 16), _mm_set1_epi32(-1)));
           mat = _mm_srai_epi32(_mm_slli_epi32(mats_w, 16), 16);  // floor_mat (low half)
         } else {
-          ok32 = _mm_and_si128(ok32, _mm_cmplt_epi32(_mm_castps_si128(light_f), _mm_setzero_si128()));
+          const __m128i light = _mm_castps_si128(light_f);
+          const __m128i in_cell = _mm_andnot_si128(_mm_cmplt_epi32(light, _mm_setzero_si128()), ok32);
+          if (Bits32(in_cell)) {  // Shade's panel test, lane by lane; a point of the cell off the panel is plain ceiling
+            alignas(16) int li[4];
+            _mm_store_si128(reinterpret_cast<__m128i*>(li), _mm_and_si128(light, in_cell));  // (lane 0's panel elsewhere)
+            const PanelFast* q[4] = {&panels[li[0]], &panels[li[1]], &panels[li[2]], &panels[li[3]]};
+            const __m256d cx = _mm256_setr_pd(q[0]->cx, q[1]->cx, q[2]->cx, q[3]->cx), cy = _mm256_setr_pd(q[0]->cy, q[1]->cy, q[2]->cy, q[3]->cy);
+            const __m256d hx = _mm256_setr_pd(q[0]->hx, q[1]->hx, q[2]->hx, q[3]->hx), hy = _mm256_setr_pd(q[0]->hy, q[1]->hy, q[2]->hy, q[3]->hy);
+            const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7FFFFFFFFFFFFFFFll));
+            panel = _mm256_and_pd(Mask64(in_cell), _mm256_and_pd(_mm256_cmp_pd(_mm256_and_pd(_mm256_sub_pd(x, cx), abs_mask), hx, _CMP_LE_OQ),
+                                                                 _mm256_cmp_pd(_mm256_and_pd(_mm256_sub_pd(y, cy), abs_mask), hy, _CMP_LE_OQ)));
+            panel_val = _mm256_setr_pd(q[0]->radiance, q[1]->radiance, q[2]->radiance, q[3]->radiance);
+          }
+          ok32 = _mm_andnot_si128(Mask32(panel), ok32);
           mat = _mm_srai_epi32(mats_w, 16);  // ceil_mat (high half)
         }
         ok = Mask64(ok32);
@@ -2254,6 +2582,8 @@ struct Renderer::Impl {
           const __m256d e = surf == Surf::kFloor ? irr : _mm256_add_pd(_mm256_set1_pd(world.ambient), _mm256_mul_pd(_mm256_set1_pd(kCeilingBounce), irr));
           res = _mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(albedo, texv), e), emission);
         }
+        res = _mm256_blendv_pd(res, panel_val, panel);
+        ok = _mm256_or_pd(ok, panel);
       } else {  // a wall that is no mirror
         const __m256d k = _mm256_cvtps_pd(_mm_loadu_ps(soa + 2 * nn + i0));
         const __m256d along = wall_x ? x : y;
@@ -2653,9 +2983,14 @@ struct Renderer::Impl {
       for (int v = 0; v < camera.height; ++v)
         for (int u = 0; u < camera.width; ++u, s += nn) *mean++ = PixelAdaptiveFast(u, v, s);
       mean = pix_mean.data();
-      for (int v = 0; v < camera.height; ++v) {
+      for (int v = 0; v < camera.height; ++v, mean += camera.width) {
         std::uint8_t* row = image.Row(v);
-        for (int u = 0; u < camera.width; ++u) row[u] = Respond(*mean++, lut_scale, noisy, key, u, v);
+        int u = 0;
+#ifdef SQUINT_RENDER_SIMD
+        if (avx512) u = RespondRowSimd(mean, lut_scale, noisy, key, v, row);
+        else if (simd) u = RespondRowAvx2(mean, lut_scale, noisy, key, v, row);
+#endif
+        for (; u < camera.width; ++u) row[u] = Respond(mean[u], lut_scale, noisy, key, u, v);
       }
       return;
     }
@@ -2684,6 +3019,85 @@ struct Renderer::Impl {
       }
     }
   }
+
+#ifdef SQUINT_RENDER_SIMD
+  // Respond for the pixels of row v, eight per AVX-512 step, with Respond's integer steps (the
+  // response table's level, the noise hash, the noise step, the clamp); a pixel whose step is
+  // kNoiseExact is left to Respond. Returns how many pixels it wrote (a multiple of eight).
+  [[gnu::target("avx512f,avx512vl,avx512dq")]] int RespondRowSimd(const double* mean, double lut_scale, bool noisy, std::uint64_t key,
+                                                                 int v, std::uint8_t* row) const {
+    const int n8 = camera.width / 8 * 8;
+    const __m512i lane = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
+    for (int u = 0; u < n8; u += 8) {
+      __m256i li = _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_loadu_pd(mean + u), _mm512_set1_pd(lut_scale)));
+      li = _mm256_max_epi32(_mm256_min_epi32(li, _mm256_set1_epi32(kGammaLutSize - 1)), _mm256_setzero_si256());
+      const __m256i level = _mm256_and_si256(_mm256_i32gather_epi32(reinterpret_cast<const int*>(gamma_lut.data()), li, 1), _mm256_set1_epi32(0xFF));
+      __m256i step = _mm256_setzero_si256();
+      __mmask8 exact = 0;
+      if (noisy) {  // SplitMix(key ^ (v * 100003 + u)) per lane
+        __m512i x = _mm512_xor_si512(_mm512_set1_epi64(static_cast<long long>(key)), _mm512_add_epi64(_mm512_set1_epi64(static_cast<long long>(static_cast<std::uint64_t>(v) * 100003u + u)), lane));
+        x = _mm512_add_epi64(x, _mm512_set1_epi64(static_cast<long long>(0x9E3779B97F4A7C15ull)));
+        x = _mm512_mullo_epi64(_mm512_xor_si512(x, _mm512_srli_epi64(x, 30)), _mm512_set1_epi64(static_cast<long long>(0xBF58476D1CE4E5B9ull)));
+        x = _mm512_mullo_epi64(_mm512_xor_si512(x, _mm512_srli_epi64(x, 27)), _mm512_set1_epi64(static_cast<long long>(0x94D049BB133111EBull)));
+        x = _mm512_xor_si512(x, _mm512_srli_epi64(x, 31));
+        const __m256i idx = _mm256_and_si256(_mm512_cvtepi64_epi32(x), _mm256_set1_epi32(0xFFFF));
+        step = _mm256_i32gather_epi32(reinterpret_cast<const int*>(noise_steps.data()), idx, 1);
+        step = _mm256_srai_epi32(_mm256_slli_epi32(step, 24), 24);  // the low byte, signed
+        exact = _mm256_cmpeq_epi32_mask(step, _mm256_set1_epi32(kNoiseExact));
+      }
+      const __m256i grey = _mm256_max_epi32(_mm256_min_epi32(_mm256_add_epi32(level, step), _mm256_set1_epi32(255)), _mm256_setzero_si256());
+      _mm_storel_epi64(reinterpret_cast<__m128i*>(row + u), _mm256_cvtepi32_epi8(grey));
+      for (; exact; exact &= static_cast<__mmask8>(exact - 1)) {
+        const int k = u + __builtin_ctz(exact);
+        row[k] = Respond(mean[k], lut_scale, noisy, key, k, v);
+      }
+    }
+    return n8;
+  }
+#endif
+
+#ifdef SQUINT_RENDER_SIMD
+  // The low 64 bits of a * b per lane (AVX2 has no 64-bit multiply): from 32-bit products.
+  [[gnu::target("avx2"), gnu::always_inline]] static inline __m256i MulLo64(__m256i a, __m256i b) {
+    const __m256i cross = _mm256_add_epi64(_mm256_mul_epu32(_mm256_srli_epi64(a, 32), b), _mm256_mul_epu32(a, _mm256_srli_epi64(b, 32)));
+    return _mm256_add_epi64(_mm256_mul_epu32(a, b), _mm256_slli_epi64(cross, 32));
+  }
+  // RespondRowSimd, four pixels per AVX2 step (the tables read lane by lane).
+  [[gnu::target("avx2")]] int RespondRowAvx2(const double* mean, double lut_scale, bool noisy, std::uint64_t key, int v,
+                                             std::uint8_t* row) const {
+    const int n4 = camera.width / 4 * 4;
+    for (int u = 0; u < n4; u += 4) {
+      __m128i li = _mm256_cvttpd_epi32(_mm256_mul_pd(_mm256_loadu_pd(mean + u), _mm256_set1_pd(lut_scale)));
+      li = _mm_max_epi32(_mm_min_epi32(li, _mm_set1_epi32(kGammaLutSize - 1)), _mm_setzero_si128());
+      alignas(16) int l[4], h[4];
+      _mm_store_si128(reinterpret_cast<__m128i*>(l), li);
+      const __m128i level = _mm_setr_epi32(gamma_lut[l[0]], gamma_lut[l[1]], gamma_lut[l[2]], gamma_lut[l[3]]);
+      __m128i step = _mm_setzero_si128();
+      int exact = 0;
+      if (noisy) {  // SplitMix(key ^ (v * 100003 + u)) per lane
+        __m256i x = _mm256_xor_si256(_mm256_set1_epi64x(static_cast<long long>(key)),
+                                     _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(static_cast<std::uint64_t>(v) * 100003u + u)),
+                                                      _mm256_setr_epi64x(0, 1, 2, 3)));
+        x = _mm256_add_epi64(x, _mm256_set1_epi64x(static_cast<long long>(0x9E3779B97F4A7C15ull)));
+        x = MulLo64(_mm256_xor_si256(x, _mm256_srli_epi64(x, 30)), _mm256_set1_epi64x(static_cast<long long>(0xBF58476D1CE4E5B9ull)));
+        x = MulLo64(_mm256_xor_si256(x, _mm256_srli_epi64(x, 27)), _mm256_set1_epi64x(static_cast<long long>(0x94D049BB133111EBull)));
+        x = _mm256_xor_si256(x, _mm256_srli_epi64(x, 31));
+        const __m128i idx = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(x, _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6)));
+        _mm_store_si128(reinterpret_cast<__m128i*>(h), _mm_and_si128(idx, _mm_set1_epi32(0xFFFF)));
+        step = _mm_setr_epi32(noise_steps[h[0]], noise_steps[h[1]], noise_steps[h[2]], noise_steps[h[3]]);
+        exact = Bits32(_mm_cmpeq_epi32(step, _mm_set1_epi32(kNoiseExact)));
+      }
+      const __m128i grey = _mm_max_epi32(_mm_min_epi32(_mm_add_epi32(level, step), _mm_set1_epi32(255)), _mm_setzero_si128());
+      const int bytes = _mm_cvtsi128_si32(_mm_shuffle_epi8(grey, _mm_setr_epi8(0, 4, 8, 12, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1)));
+      std::memcpy(row + u, &bytes, 4);
+      for (; exact; exact &= exact - 1) {
+        const int k = u + __builtin_ctz(exact);
+        row[k] = Respond(mean[k], lut_scale, noisy, key, k, v);
+      }
+    }
+    return n4;
+  }
+#endif
 
   // A pixel's grey level from its mean radiance: exposure, response curve, noise keyed by
   // (key, pixel), rounded half up.
