@@ -96,18 +96,24 @@ TEST(FloorContact, CameraWithoutHeightIsAnError) {
   EXPECT_THROW(FloorContact(Camera(0.0), bad), Error);
 }
 
+// Options whose cues' fused distance is Jeffrey's constant reading of beta2 (alpha2 = 0): 20 m,
+// far from the walls the floor-contact tests place at 3-5 m; the gate off.
+CorridorOptions JeffreyAt20m() {
+  CorridorOptions o;
+  o.gate.enabled = false;
+  o.distance.enabled = {false, true, false};
+  o.distance.alpha2 = 0.0;
+  o.distance.beta2 = 20.0;
+  return o;
+}
+
 // The Perceiver reports the floor contact's temporal median as dist_floor_m; it becomes the fused
 // distance only where the cues' fused distance lies within agreement_ratio of it.
 TEST(FloorContact, PerceiverFusesItOnlyWhenTheCuesAgree) {
   const CameraModel cam = Camera(-6.0);
   for (const double ratio : {0.0, 0.5}) {
-    CorridorOptions o;
-    o.gate.enabled = false;
+    CorridorOptions o = JeffreyAt20m();
     o.distance.floor_contact.agreement_ratio = ratio;
-    // The cues' fused distance: Jeffrey's constant reading of beta2 (alpha2 = 0), far from 4 m.
-    o.distance.enabled = {false, true, false};
-    o.distance.alpha2 = 0.0;
-    o.distance.beta2 = 20.0;
     Perceiver perceiver(o, cam);
     PerceptionResult r;
     for (int i = 0; i < 6; ++i) {
@@ -231,12 +237,8 @@ TEST(FloorMotionCheck, AWallFeatureOrAJumpingEdgeFails) {
 // fused distance (Jeffrey's constant 20 m) disagrees, once its readings span half the window.
 TEST(FloorContact, PerceiverFusesItWhenItMovesAsTheFloor) {
   const CameraModel cam = Camera(-6.0);
-  CorridorOptions o;
-  o.gate.enabled = false;
+  CorridorOptions o = JeffreyAt20m();
   o.distance.floor_contact.motion_window_m = 1.0;
-  o.distance.enabled = {false, true, false};
-  o.distance.alpha2 = 0.0;
-  o.distance.beta2 = 20.0;
   Perceiver perceiver(o, cam);
   PerceptionResult r;
   for (int i = 0; i < 12; ++i) {
