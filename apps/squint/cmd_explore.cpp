@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <algorithm>
@@ -156,6 +157,13 @@ std::string Fixed(double v, int d) {
 
 // A CSV cell: empty for NaN.
 std::string Cell(double v, int d) { return std::isfinite(v) ? Fixed(v, d) : std::string(); }
+// A text cell: quoted (RFC 4180) when it holds a comma, a quote or a line break.
+std::string CsvText(const std::string& t) {
+  if (t.find_first_of(",\"\n") == std::string::npos) return t;
+  std::string q = "\"";
+  for (char c : t) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
 
 void RunEvalExplore(const EvalExploreOptions& opt) {
   std::vector<std::string> names = opt.worlds;
@@ -170,11 +178,12 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
   std::string table =
       "| world | start | x, y, yaw | minutes | distance m | coverage | ends | turns | collisions | outcome |\n"
       "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
-  // The last four columns (added after `proceeded`; empty when nothing was measured) are against
-  // ground truth: see ExploreSummary's setoff_* and axis_error_*.
+  // The columns after `proceeded` (empty when nothing was measured) are against ground truth: see
+  // ExploreSummary's setoff_*, axis_error_* and first_* (the first contact and what it touched).
   std::string csv =
       "world,start,x_m,y_m,yaw_deg,sim_seconds,distance_m,coverage,ends_detected,turns,collisions,proceeded,"
-      "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg\n";
+      "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg,first_collision_s,first_hit\n";
+  std::map<std::string, int> first_hits;  // world: what, -> runs whose first contact it was
   int total_collisions = 0, runs = 0, clean = 0;
   int off_axis_runs = 0, setoff_off = 0;  // runs with following frames; set-offs more than 10° off the axis
   double off_axis_sum = 0.0;
@@ -202,7 +211,8 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
              Fixed(s.coverage, 4) + "," + std::to_string(s.ends_detected) + "," + std::to_string(s.turns) + "," +
              std::to_string(s.collisions) + "," + (s.proceeded ? "1" : "0") + "," + Cell(s.setoff_seconds, 2) + "," +
              Cell(s.setoff_axis_error_deg, 2) + "," + Cell(s.axis_error_p90_deg, 2) + "," + Cell(s.axis_error_over_10deg, 4) +
-             "\n";
+             "," + Cell(s.first_collision_s, 2) + "," + CsvText(s.first_hit) + "\n";
+      if (!s.first_hit.empty()) ++first_hits[world.name + ": " + s.first_hit];
       if (std::isfinite(s.axis_error_over_10deg)) {
         off_axis_sum += s.axis_error_over_10deg;
         ++off_axis_runs;
@@ -216,12 +226,15 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
     }
   }
   bar.Finish();
-  const std::string footer = "\n" + std::to_string(clean) + " of " + std::to_string(runs) +
+  std::string footer = "\n" + std::to_string(clean) + " of " + std::to_string(runs) +
                              " runs without collision (" + std::to_string(total_collisions) + " collisions in all)\n" +
                              "axis (against ground truth): " + std::to_string(setoff_off) +
                              " set-offs more than 10 deg off; following, " +
                              Fixed(off_axis_runs > 0 ? 100.0 * off_axis_sum / off_axis_runs : 0.0, 1) +
                              "% of the frames more than 10 deg off (mean over runs)\n";
+  std::string contacts;
+  for (const auto& [what, n] : first_hits) contacts += (contacts.empty() ? "" : "; ") + what + " " + std::to_string(n);
+  if (!contacts.empty()) footer += "first contacts (runs): " + contacts + "\n";
   io::WriteFileAtomically(staged.Path() / "table.md", table + footer);
   io::WriteFileAtomically(staged.Path() / "runs.csv", csv);
   staged.Commit();

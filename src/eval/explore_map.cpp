@@ -144,6 +144,12 @@ std::string SummaryJson(const ExploreSummary& s) {
   j["advice_in_path"] = s.advice_in_path;
   j["override_frames"] = s.override_frames;
   j["obstacle_stops"] = s.obstacle_stops;
+  // The first contact (null / empty without one): when, the robot's true position, what it
+  // touched ("wall" or the world file's entry).
+  j["first_collision_s"] = num(s.first_collision_s);
+  j["first_collision_x_m"] = s.first_hit.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(s.first_collision_pose.x);
+  j["first_collision_y_m"] = s.first_hit.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(s.first_collision_pose.y);
+  j["first_hit"] = s.first_hit;
   return j.dump(2) + "\n";
 }
 

@@ -276,6 +276,11 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
     if (p.sonar) perception_cpu += ThreadCpuSeconds() - cpu2;  // the sonar memory update runs inside Step
 
     const sim::StepResult step = robot.Step(cmd.v_mps, cmd.omega_rps);
+    if (step.collided && out.summary.first_hit.empty()) {
+      out.summary.first_collision_s = static_cast<double>(f) * dt;
+      out.summary.first_collision_pose = robot.TruePose();
+      out.summary.first_hit = step.hit;
+    }
 
     bool first_setoff = false;
     for (; events_seen < explorer.Events().size(); ++events_seen) {

@@ -35,7 +35,8 @@ TEST(ExploreCli, ShortRunWritesTheThreeOutputs) {
   const nlohmann::json j = nlohmann::json::parse(js);
   for (const char* key : {"sim_seconds", "distance_m", "collisions", "coverage", "ends_detected", "turns", "frames",
                           "frames_fully_processed", "perception_cpu_seconds", "wall_seconds", "setoff_seconds",
-                          "setoff_axis_error_deg", "axis_error_p90_deg", "axis_error_over_10deg"})
+                          "setoff_axis_error_deg", "axis_error_p90_deg", "axis_error_over_10deg", "first_collision_s",
+                          "first_collision_x_m", "first_collision_y_m", "first_hit"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_NEAR(j["sim_seconds"].get<double>(), 30.0, 0.1);
   EXPECT_EQ(j["frames"].get<long>(), 900);
@@ -56,7 +57,7 @@ TEST(ExploreCli, EvalExploreWritesTheRunsTableAndTheAxisFigures) {
   std::getline(csv, line);
   EXPECT_EQ(line,
             "world,start,x_m,y_m,yaw_deg,sim_seconds,distance_m,coverage,ends_detected,turns,collisions,proceeded,"
-            "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg");
+            "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg,first_collision_s,first_hit");
   int rows = 0;
   while (std::getline(csv, line)) {
     ++rows;
@@ -64,7 +65,7 @@ TEST(ExploreCli, EvalExploreWritesTheRunsTableAndTheAxisFigures) {
     std::stringstream ss(line);
     for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
     if (!line.empty() && line.back() == ',') cells.emplace_back();
-    ASSERT_EQ(cells.size(), 16u) << line;
+    ASSERT_EQ(cells.size(), 18u) << line;
     EXPECT_EQ(cells[0], "corridor-0");
     // Start 0 is the world's start, along the axis: it sets off within seconds, nearly on the axis.
     if (cells[1] == "0") {
@@ -75,6 +76,8 @@ TEST(ExploreCli, EvalExploreWritesTheRunsTableAndTheAxisFigures) {
       EXPECT_GE(over, 0.0);
       EXPECT_LE(over, 1.0);
     }
+    // No contact, no first contact; a contact names what was touched.
+    EXPECT_EQ(cells[10] == "0", cells[16].empty() && cells[17].empty()) << line;
   }
   EXPECT_EQ(rows, 2);
   std::ifstream md(out / "table.md");
@@ -141,16 +144,26 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
 // With each column clearing only up to its own reading the legs stay remembered: no contact.
 TEST(ExploreCli, OwnRangeClearingKeepsTheChairLegsRemembered) {
   const auto dir = TempDir("own");
-  auto collisions = [&](const std::string& name, const std::string& flag) {
+  auto summary = [&](const std::string& name, const std::string& flag) {
     const auto out = dir / name;
     const CliResult r =
         RunSquint("explore --world obstacle-course --seed 12 --eval-start 1 --minutes 0.25 --out " + out.string() + flag);
     EXPECT_EQ(r.code, 0) << r.all();
     std::ifstream js(out / "summary.json");
-    return nlohmann::json::parse(js)["collisions"].get<long>();
+    return nlohmann::json::parse(js);
   };
-  EXPECT_GT(collisions("off", ""), 0);
-  EXPECT_EQ(collisions("on", " --own-range-clearing"), 0);
+  // Without it: the first contact is the chair (the world file's obstacles[3]), within 5 s, with
+  // the robot's centre within its reach (the seat spans 8.275-8.725 x -1.425 to -0.975 m).
+  const nlohmann::json off = summary("off", "");
+  EXPECT_GT(off["collisions"].get<long>(), 0);
+  EXPECT_EQ(off["first_hit"].get<std::string>(), "obstacles[3] (chair)");
+  EXPECT_LT(off["first_collision_s"].get<double>(), 5.0);
+  EXPECT_NEAR(off["first_collision_x_m"].get<double>(), 8.5, 0.225 + 0.22 + 0.01);
+  EXPECT_NEAR(off["first_collision_y_m"].get<double>(), -1.2, 0.225 + 0.22 + 0.01);
+  const nlohmann::json on = summary("on", " --own-range-clearing");
+  EXPECT_EQ(on["collisions"].get<long>(), 0);
+  EXPECT_TRUE(on["first_collision_s"].is_null());
+  EXPECT_EQ(on["first_hit"].get<std::string>(), "");
   std::filesystem::remove_all(dir);
 }
 

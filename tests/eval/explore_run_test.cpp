@@ -233,7 +233,8 @@ TEST(ExploreRun, OutputsAreWritten) {
   const std::string text((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
   for (const char* key : {"sim_seconds", "distance_m", "collisions", "coverage", "ends_detected", "turns", "frames",
                           "frames_fully_processed", "perception_cpu_seconds", "wall_seconds", "setoff_seconds",
-                          "setoff_axis_error_deg", "axis_error_p90_deg", "axis_error_over_10deg"})
+                          "setoff_axis_error_deg", "axis_error_p90_deg", "axis_error_over_10deg", "first_collision_s",
+                          "first_hit"})
     EXPECT_NE(text.find(std::string("\"") + key + "\""), std::string::npos) << key;
   std::filesystem::remove_all(dir);
 }

@@ -138,6 +138,11 @@ struct ExploreSummary {
   double setoff_axis_error_deg = std::numeric_limits<double>::quiet_NaN();
   double axis_error_p90_deg = std::numeric_limits<double>::quiet_NaN();  // 90th percentile of |error|
   double axis_error_over_10deg = std::numeric_limits<double>::quiet_NaN();  // fraction of those frames with |error| > 10°
+  // The first contact (ground truth): when, where the robot's centre was, and what it touched
+  // ("wall", or the world file's entry, e.g. "obstacles[3] (chair)"). NaN / empty without one.
+  double first_collision_s = std::numeric_limits<double>::quiet_NaN();
+  Pose2 first_collision_pose;
+  std::string first_hit;
   bool proceeded = true;     // false when exploration could not proceed (see outcome)
   std::string outcome;       // one line: what happened
 };
