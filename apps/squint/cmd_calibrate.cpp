@@ -119,33 +119,41 @@ void Run(const CalibrateCliOptions& opt) {
   if (candidates.size() > 1) std::cout << fmt::format("  ttc scale chosen: {:g}\n", best_scale);
   // The floor-contact options that calibration turned on (the motion test, the same-sign
   // refinement) stay only where they lower the fused distance's RMSE on these sequences
-  // (eval::KeepFloorMotion): the written options run with and without each, in turn.
+  // (eval::KeepFloorMotion): each is run off against the written options as they stand, whose
+  // runs are made once and are the runs without an option that is dropped.
   struct FloorCheck {
     std::string name;
     eval::CueRmse with, without;
     bool kept = false;
   };
   std::vector<FloorCheck> floor_checks;
-  const auto check_floor_option = [&](const std::string& name, const std::function<void(corridor::CorridorOptions&)>& off) {
-    eval::CorridorRunOptions with_opt;
-    with_opt.perception = file.options;
-    with_opt.record = file.record;
-    with_opt.gated_pass = false;
-    eval::CorridorRunOptions without_opt = with_opt;
-    off(without_opt.perception);
-    std::vector<eval::CorridorRun> with_runs, without_runs;
-    ProgressBar bar("calibrate (" + name + ")", 2 * total);
+  eval::CorridorRunOptions written;
+  written.perception = file.options;
+  written.record = file.record;
+  written.gated_pass = false;
+  std::optional<eval::CueRmse> written_rmse;  // of `written`, once run
+  const auto run_all = [&](const eval::CorridorRunOptions& ro, const std::string& what) {
+    std::vector<eval::CorridorRun> runs;
+    ProgressBar bar("calibrate (" + what + ")", total);
     std::size_t done = 0;
     for (const io::Sequence& s : seqs) {
-      with_runs.push_back(eval::RunCorridorSequence(s, with_opt, [&](std::size_t i) { bar.Update(done + i); }));
-      done += s.Size();
-      without_runs.push_back(eval::RunCorridorSequence(s, without_opt, [&](std::size_t i) { bar.Update(done + i); }));
+      runs.push_back(eval::RunCorridorSequence(s, ro, [&](std::size_t i) { bar.Update(done + i); }));
       done += s.Size();
     }
     bar.Finish();
-    FloorCheck c{name, eval::FusedDistanceRmse(with_runs, fit), eval::FusedDistanceRmse(without_runs, fit)};
+    return eval::FusedDistanceRmse(runs, fit);
+  };
+  const auto check_floor_option = [&](const std::string& name, const std::function<void(corridor::CorridorOptions&)>& off) {
+    if (!written_rmse) written_rmse = run_all(written, "written options");
+    eval::CorridorRunOptions without_opt = written;
+    off(without_opt.perception);
+    FloorCheck c{name, *written_rmse, run_all(without_opt, "without the " + name)};
     c.kept = eval::KeepFloorMotion(c.with, c.without);
-    if (!c.kept) off(file.options);
+    if (!c.kept) {
+      off(file.options);
+      written = without_opt;
+      written_rmse = c.without;
+    }
     floor_checks.push_back(c);
   };
   if (fit.fit_distance && file.options.distance.floor_contact.motion_window_m > 0.0 &&
