@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -420,19 +421,16 @@ std::vector<const CorridorFrame*> FusionFrames(const std::vector<CorridorRun>& r
   return frames;
 }
 
-}  // namespace
-
-CueRmse TtcCalibrationRmse(const std::vector<CorridorRun>& runs, const CalibrateOptions& options,
-                           const CorridorCalibrationFile& file) {
-  const corridor::DistanceOptions& d = file.options.distance;
-  std::array<std::unique_ptr<corridor::DistanceMeasure>, kDistanceCueCount> m;
-  m[0] = std::make_unique<corridor::TimeToContactDistance>(d, 0.0, 0.0);
+// RMSE against the truth over the FusionFrames of an estimate per frame (`estimate(frame)`: an
+// optional distance); `answered` counts the frames with one.
+template <class Estimate>
+CueRmse FusionFramesRmse(const std::vector<CorridorRun>& runs, const CalibrateOptions& options, Estimate estimate) {
   CueRmse out;
   double sq = 0.0;
   for (const CorridorFrame* f : FusionFrames(runs, options)) {
     ++out.frames;
-    if (const auto e = FuseFrame(*f, d, m, 1u)) {
-      sq += (e->dist_m - *f->gt.dist_end_m) * (e->dist_m - *f->gt.dist_end_m);
+    if (const std::optional<double> e = estimate(*f)) {
+      sq += (*e - *f->gt.dist_end_m) * (*e - *f->gt.dist_end_m);
       ++out.answered;
     }
   }
@@ -440,18 +438,21 @@ CueRmse TtcCalibrationRmse(const std::vector<CorridorRun>& runs, const Calibrate
   return out;
 }
 
+}  // namespace
+
+CueRmse TtcCalibrationRmse(const std::vector<CorridorRun>& runs, const CalibrateOptions& options,
+                           const CorridorCalibrationFile& file) {
+  const corridor::DistanceOptions& d = file.options.distance;
+  std::array<std::unique_ptr<corridor::DistanceMeasure>, kDistanceCueCount> m;
+  m[0] = std::make_unique<corridor::TimeToContactDistance>(d, 0.0, 0.0);
+  return FusionFramesRmse(runs, options, [&](const CorridorFrame& f) -> std::optional<double> {
+    if (const auto e = FuseFrame(f, d, m, 1u)) return e->dist_m;
+    return std::nullopt;
+  });
+}
+
 CueRmse FusedDistanceRmse(const std::vector<CorridorRun>& runs, const CalibrateOptions& options) {
-  CueRmse out;
-  double sq = 0.0;
-  for (const CorridorFrame* f : FusionFrames(runs, options)) {
-    ++out.frames;
-    if (f->fused_dist_m) {
-      sq += (*f->fused_dist_m - *f->gt.dist_end_m) * (*f->fused_dist_m - *f->gt.dist_end_m);
-      ++out.answered;
-    }
-  }
-  if (out.answered > 0) out.rmse_m = std::sqrt(sq / static_cast<double>(out.answered));
-  return out;
+  return FusionFramesRmse(runs, options, [](const CorridorFrame& f) { return f.fused_dist_m; });
 }
 
 bool KeepFloorMotion(const CueRmse& with, const CueRmse& without) {
