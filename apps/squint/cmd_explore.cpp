@@ -157,12 +157,11 @@ std::string Fixed(double v, int d) {
 
 // A CSV cell: empty for NaN.
 std::string Cell(double v, int d) { return std::isfinite(v) ? Fixed(v, d) : std::string(); }
-// A text cell: quoted (RFC 4180) when it holds a comma, a quote or a line break.
-std::string CsvText(const std::string& t) {
-  if (t.find_first_of(",\"\n") == std::string::npos) return t;
-  std::string q = "\"";
-  for (char c : t) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
+// A text cell, as events.csv writes its notes: commas become semicolons (the project's CSV reader
+// and tools/eval_explore_seeds.sh split on every comma).
+std::string CsvText(std::string t) {
+  std::replace(t.begin(), t.end(), ',', ';');
+  return t;
 }
 
 void RunEvalExplore(const EvalExploreOptions& opt) {

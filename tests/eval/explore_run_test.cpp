@@ -51,12 +51,19 @@ corridors:
     lights: {rows: centre, spacing_m: 3.0, size_m: [0.6, 0.3]}
 )";
 
+// One minute in the short corridor, seed 3 (with its trace), run once for the tests that read it.
+const ExploreRunResult& ShortCorridorRun() {
+  static const ExploreRunResult run = [] {
+    ExploreRunOptions opt;
+    opt.minutes = 1.0;
+    opt.seed = 3;
+    return RunExplore(sim::ParseWorld(kShortCorridor, "test:short"), opt);
+  }();
+  return run;
+}
+
 TEST(ExploreRun, ShortCorridorReachesTheFarEndWithoutCollision) {
-  const sim::World world = sim::ParseWorld(kShortCorridor, "test:short");
-  ExploreRunOptions opt;
-  opt.minutes = 1.0;
-  opt.seed = 3;
-  const ExploreRunResult run = RunExplore(world, opt);
+  const ExploreRunResult& run = ShortCorridorRun();
   double max_x = 0.0;
   for (const Pose2& p : run.true_path) max_x = std::max(max_x, p.x);
   // The far end wall is at x = 15 (the floor reaches width/2 beyond the end point).
@@ -242,11 +249,7 @@ TEST(ExploreRun, OutputsAreWritten) {
 // The axis figures (setoff_*, axis_error_*) are the trace's: the first set-off's row, and the rows
 // spent following. In the short corridor, set off along the axis, they are small.
 TEST(ExploreRun, AxisErrorFiguresAreTheTracesAndSmallInAPlainCorridor) {
-  const sim::World world = sim::ParseWorld(kShortCorridor, "test:short");
-  ExploreRunOptions opt;
-  opt.minutes = 1.0;
-  opt.seed = 3;
-  const ExploreRunResult run = RunExplore(world, opt);
+  const ExploreRunResult& run = ShortCorridorRun();
   const ExploreSummary& s = run.summary;
   ASSERT_FALSE(std::isnan(s.setoff_seconds));
   const auto first = std::find_if(run.marks.begin(), run.marks.end(), [](const ExploreMark& m) {
