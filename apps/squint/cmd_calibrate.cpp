@@ -164,6 +164,10 @@ void Run(const CalibrateCliOptions& opt) {
       !base_in.distance.floor_contact.refine_same_sign)
     check_floor_option("floor contact's same-sign refinement",
                        [](corridor::CorridorOptions& o) { o.distance.floor_contact.refine_same_sign = false; });
+  if (fit.fit_distance && file.options.distance.floor_contact.lined_wall_rel_step > 0.0 &&
+      base_in.distance.floor_contact.lined_wall_rel_step == 0.0)
+    check_floor_option("floor contact's lined-wall rule",
+                       [](corridor::CorridorOptions& o) { o.distance.floor_contact.lined_wall_rel_step = 0.0; });
   eval::SaveCalibrationFile(opt.out, file);
 
   std::cout << fmt::format("calibrated on {} sequences ({} frames) -> {}\n", seqs.size(), total, opt.out);
@@ -231,6 +235,11 @@ void Register(CLI::App& root) {
   cmd->add_flag("--no-floor-same-sign{false}", opt->fit.floor_refine_same_sign,
                 "Keep the base's floor-contact refinement (default: the same-sign refinement is turned on and kept "
                 "where it lowers the fused RMSE on these sequences; docs/calibration.md)");
+  cmd->add_option("--floor-lined-wall-rel-step", opt->fit.floor_lined_wall_rel_step,
+                  "The floor contact's lined-wall rule (a step of this share of the column's strongest, where the "
+                  "end wall shows lines above the horizon), written to the options when the base sets none and kept "
+                  "where it lowers the fused RMSE on these sequences; 0 = keep the base's (docs/calibration.md)")
+      ->capture_default_str();
   cmd->add_option("--ttc-cell-quantile", opt->fit.ttc_cell_quantile,
                   "Quantile of the cells' magnifications that is the estimate")
       ->capture_default_str();

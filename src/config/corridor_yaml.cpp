@@ -191,6 +191,7 @@ void ReadDistance(const YAML::Node& node, const std::string& source, corridor::D
     m.Get("motion_min_fraction", d.floor_contact.motion_min_fraction);
     m.Get("motion_min_readings", d.floor_contact.motion_min_readings);
     m.Get("refine_same_sign", d.floor_contact.refine_same_sign);
+    m.Get("lined_wall_rel_step", d.floor_contact.lined_wall_rel_step);
     m.CheckUnknown();
   }
   r.CheckUnknown();
@@ -350,7 +351,8 @@ std::string CorridorOptionsToYaml(const CorridorOptions& o) {
     << YAML::Value << fc.motion_window_m << YAML::Key << "motion_tol_rows" << YAML::Value << fc.motion_tol_rows
     << YAML::Key << "motion_min_fraction" << YAML::Value << fc.motion_min_fraction << YAML::Key
     << "motion_min_readings" << YAML::Value << fc.motion_min_readings << YAML::Key << "refine_same_sign"
-    << YAML::Value << fc.refine_same_sign << YAML::EndMap;
+    << YAML::Value << fc.refine_same_sign << YAML::Key << "lined_wall_rel_step" << YAML::Value
+    << fc.lined_wall_rel_step << YAML::EndMap;
   e << YAML::EndMap;
   e << YAML::Key << "gate" << YAML::Value << YAML::BeginMap << YAML::Key << "enabled" << YAML::Value
     << o.gate.enabled << YAML::Key << "threshold" << YAML::Value << o.gate.threshold << YAML::Key

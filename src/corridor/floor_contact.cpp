@@ -33,19 +33,48 @@ FloorContact::FloorContact(const CameraModel& camera, const FloorContactOptions&
 
 std::optional<double> FloorContact::BoundaryRow(const PixelView& frame, int u) {
   const int h = camera_.height;
-  for (int v = top_row_; v < h; ++v) {
-    const std::uint8_t* row = frame.data + static_cast<std::ptrdiff_t>(v) * frame.stride;
-    profile_[static_cast<std::size_t>(v)] =
-        (GreyAt(row, u - 1, frame.channels) + GreyAt(row, u, frame.channels) + GreyAt(row, u + 1, frame.channels)) / 3.0;
+  for (int v = top_row_; v < h; ++v) profile_[static_cast<std::size_t>(v)] = ColumnGrey(frame, u, v);
+  const std::optional<double> first = EdgeRow(options_.min_step);
+  if (!first || !(options_.lined_wall_rel_step > 0.0) || !LinedAbove(frame, u, *first)) return first;
+  // A lined wall: the first step that is a fair share of the column's strongest below the horizon.
+  double strongest = 0.0;
+  for (int v = top_row_ + 1; v < h - 2; ++v) strongest = std::max(strongest, Step(v));
+  return EdgeRow(std::max(options_.min_step, options_.lined_wall_rel_step * strongest));
+}
+
+double FloorContact::ColumnGrey(const PixelView& frame, int u, int v) const {
+  const std::uint8_t* row = frame.data + static_cast<std::ptrdiff_t>(v) * frame.stride;
+  return (GreyAt(row, u - 1, frame.channels) + GreyAt(row, u, frame.channels) + GreyAt(row, u + 1, frame.channels)) / 3.0;
+}
+
+double FloorContact::Step(int v) const {
+  return std::abs(profile_[static_cast<std::size_t>(v + 1)] - profile_[static_cast<std::size_t>(v)]);
+}
+
+bool FloorContact::LinedAbove(const PixelView& frame, int u, double edge_row) const {
+  // The rows from Δ above the horizon up to the last one above it (top_row_ − 1), Δ the edge's
+  // depth below the horizon.
+  const double horizon = camera_.HorizonRow();
+  const int lo = std::max(0, static_cast<int>(std::floor(horizon - (edge_row - horizon))));
+  double prev = 0.0;
+  for (int v = lo; v < top_row_; ++v) {
+    const double g = ColumnGrey(frame, u, v);
+    if (v > lo && std::abs(g - prev) >= options_.min_step) return true;
+    prev = g;
   }
+  return false;
+}
+
+std::optional<double> FloorContact::EdgeRow(double min_step) const {
+  const int h = camera_.height;
   // d(v) = |p(v + 1) - p(v)|: the edge between rows v and v + 1.
-  auto step = [&](int v) { return std::abs(profile_[static_cast<std::size_t>(v + 1)] - profile_[static_cast<std::size_t>(v)]); };
+  auto step = [&](int v) { return Step(v); };
   // The signed change p(v + 1) - p(v) times `sign`.
   auto signed_step = [&](int v, double sign) {
     return sign * (profile_[static_cast<std::size_t>(v + 1)] - profile_[static_cast<std::size_t>(v)]);
   };
   for (int v = top_row_ + 1; v < h - 2; ++v) {
-    if (step(v) < options_.min_step) continue;
+    if (step(v) < min_step) continue;
     int best = v;
     if (options_.refine_same_sign) {
       // Only changes of the first one's sign, up to the first of the other sign (the far side of

@@ -138,6 +138,8 @@ std::string FloorContactOptions::Validate() const {
     e << "distance.floor_contact.motion_min_fraction must be in (0, 1]; ";
   if (motion_min_readings < 2 || motion_min_readings > kMaxFloorMotionReadings)
     e << "distance.floor_contact.motion_min_readings must be in [2, " << kMaxFloorMotionReadings << "]; ";
+  if (!Finite(lined_wall_rel_step) || lined_wall_rel_step < 0.0 || lined_wall_rel_step > 1.0)
+    e << "distance.floor_contact.lined_wall_rel_step must be in [0, 1] (0 = off); ";
   return e.str();
 }
 

@@ -312,6 +312,8 @@ std::string CalibrateOptions::Validate() const {
   if (!(ttc_glance_scale >= 1.0 && ttc_glance_scale <= 4.0)) return "ttc_glance_scale must be in [1, 4]";
   if (!(floor_motion_window_m >= 0.0 && std::isfinite(floor_motion_window_m)))
     return "floor_motion_window_m must be >= 0 (0 = keep the base's)";
+  if (!(floor_lined_wall_rel_step >= 0.0 && floor_lined_wall_rel_step <= 1.0))
+    return "floor_lined_wall_rel_step must be in [0, 1] (0 = keep the base's)";
   for (double c : ttc_glance_scales)
     if (!(c >= 1.0 && c <= 4.0)) return "every ttc_glance_scales candidate must be in [1, 4]";
   if (!(fusion_max_truth_m > 0.0)) return "fusion_max_truth_m must be positive";
@@ -334,6 +336,8 @@ corridor::CorridorOptions CalibrationBaseOptions(const corridor::CorridorOptions
   if (options.fit_distance && options.floor_motion_window_m > 0.0 && base.distance.floor_contact.motion_window_m == 0.0)
     out.distance.floor_contact.motion_window_m = options.floor_motion_window_m;
   if (options.fit_distance && options.floor_refine_same_sign) out.distance.floor_contact.refine_same_sign = true;
+  if (options.fit_distance && options.floor_lined_wall_rel_step > 0.0 && base.distance.floor_contact.lined_wall_rel_step == 0.0)
+    out.distance.floor_contact.lined_wall_rel_step = options.floor_lined_wall_rel_step;
   return out;
 }
 

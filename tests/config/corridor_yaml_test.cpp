@@ -73,6 +73,7 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   o.distance.floor_contact.motion_min_fraction = 0.6;
   o.distance.floor_contact.motion_min_readings = 7;
   o.distance.floor_contact.refine_same_sign = true;
+  o.distance.floor_contact.lined_wall_rel_step = 0.625;
   o.distance.floor_contact.overrides_fusion = false;
   o.distance.floor_contact.agreement_ratio = 0.25;
   o.gate.threshold = 0.02;
@@ -128,6 +129,7 @@ TEST(CorridorYaml, RoundTripKeepsEveryMember) {
   EXPECT_EQ(back.distance.floor_contact.motion_min_fraction, 0.6);
   EXPECT_EQ(back.distance.floor_contact.motion_min_readings, 7);
   EXPECT_TRUE(back.distance.floor_contact.refine_same_sign);
+  EXPECT_EQ(back.distance.floor_contact.lined_wall_rel_step, 0.625);
   EXPECT_EQ(back.distance.floor_contact.half_width_deg, 3.5);
   EXPECT_EQ(back.distance.floor_contact.min_step, 7.25);
   EXPECT_EQ(back.distance.floor_contact.min_column_fraction, 0.75);
@@ -169,6 +171,8 @@ TEST(CorridorYaml, BadInputIsOneClearError) {
   EXPECT_NE(message("heading: {filter: {reinit_after_rejections: 1.5}}").find("'heading.filter.reinit_after_rejections' has a value of the wrong type"), std::string::npos);
   EXPECT_NE(message("heading: {cues: {phase: {std_deg: -1}}}").find("heading.cues.phase.std_deg must be > 0"), std::string::npos);
   EXPECT_NE(message("heading: [1, 2").find("not valid YAML"), std::string::npos);
+  EXPECT_NE(message("distance: {floor_contact: {lined_wall_rel_step: 2}}").find("lined_wall_rel_step must be in [0, 1]"),
+            std::string::npos);
   for (const std::string& m : {message("x: 1"), message("gate: {threshold: -1}")})
     EXPECT_EQ(m.rfind("calib.yaml: ", 0), 0u) << m;
   EXPECT_THROW(LoadCorridorOptions("/nonexistent/calib.yaml"), Error);

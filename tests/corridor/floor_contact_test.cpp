@@ -171,6 +171,80 @@ TEST(FloorContact, SameSignRefinementKeepsTheFootAboveAContactShadow) {
   EXPECT_NEAR(*same_sign.Measure(View(plain, cam)), *any_sign.Measure(View(plain, cam)), 0.2);
 }
 
+// A brick-like end wall at `wall_m`: grey `wall` with a dark mortar line (grey `mortar`) 0.05 m
+// high every `course_m` from `course_m` up, standing on the floor (grey `floor`, with a gentle
+// ramp). The foot (wall against floor) is the column's strongest step; the mortar lines below the
+// camera's height are weaker steps above it.
+std::vector<std::uint8_t> LinedWallFrame(const CameraModel& cam, double wall_m, double course_m, int floor, int wall,
+                                         int mortar) {
+  std::vector<std::uint8_t> px(static_cast<std::size_t>(cam.width * cam.height));
+  for (int v = 0; v < cam.height; ++v)
+    for (int u = 0; u < cam.width; ++u) {
+      const Eigen::Vector3d ray = cam.PixelRayRobot({static_cast<double>(u), static_cast<double>(v)});
+      double g = -1.0;
+      if (ray.z() < 0.0) {
+        const double t = cam.height_m / -ray.z();
+        if (t * ray.x() < wall_m) g = floor + 0.5 * t;
+      }
+      if (g < 0.0) {
+        const double z = cam.height_m + (wall_m / ray.x()) * ray.z();  // height on the wall
+        const double in_course = std::fmod(z, course_m);
+        g = z >= course_m - 1e-9 && in_course < 0.05 ? mortar : wall;
+      }
+      px[static_cast<std::size_t>(v * cam.width + u)] = static_cast<std::uint8_t>(std::lround(g));
+    }
+  return px;
+}
+
+// The first edge below the horizon of a lined end wall is a mortar line, which reads farther
+// than the wall; the lined-wall rule sees the lines just above the horizon and takes the foot.
+// On a plain wall it changes nothing, even where a floor edge below the foot is stronger.
+TEST(FloorContact, LinedWallRuleFindsTheFootBelowMortarLines) {
+  const CameraModel cam = Camera(-6.0);
+  FloorContactOptions lined;
+  lined.lined_wall_rel_step = 0.5;
+  FloorContact first(cam, FloorContactOptions{}), rule(cam, lined);
+  for (const double d : {4.0, 5.0, 6.0}) {
+    // Mortar at 0.6 and 1.2 m: the first reads 3.2 times too far, the second is above the horizon.
+    const auto px = LinedWallFrame(cam, d, 0.6, 90, 200, 175);  // foot step 100+, mortar 25
+    const std::optional<double> a = first.Measure(View(px, cam));
+    const std::optional<double> b = rule.Measure(View(px, cam));
+    ASSERT_TRUE(a && b) << d;
+    const double row_m = d * d / (cam.height_m * cam.fy);
+    EXPECT_GT(*a, d + 0.3) << d;  // a mortar line: above the foot, read too far
+    EXPECT_NEAR(*b, d, std::max(0.02, 0.5 * row_m)) << d;
+  }
+  // A plain wall with a floor stripe before it that steps more than the wall's foot: not lined,
+  // so the first edge (the foot) stands.
+  for (const double d : {5.0, 9.0}) {
+    auto px = WallFrame(cam, d, 150, 170);
+    for (int v = 0; v < cam.height; ++v)
+      for (int u = 0; u < cam.width; ++u) {
+        const Eigen::Vector3d ray = cam.PixelRayRobot({static_cast<double>(u), static_cast<double>(v)});
+        if (ray.z() >= 0.0) continue;
+        const double x = cam.height_m / -ray.z() * ray.x();
+        if (x < d - 1.0 && x > d - 1.5) px[static_cast<std::size_t>(v * cam.width + u)] = 40;
+      }
+    const std::optional<double> a = first.Measure(View(px, cam));
+    const std::optional<double> b = rule.Measure(View(px, cam));
+    ASSERT_TRUE(a && b) << d;
+    EXPECT_EQ(*a, *b) << d;
+    EXPECT_NEAR(*b, d, std::max(0.02, 0.5 * d * d / (cam.height_m * cam.fy))) << d;
+  }
+}
+
+TEST(FloorContactOptions, LinedWallRuleIsValidated) {
+  FloorContactOptions o;
+  EXPECT_EQ(o.lined_wall_rel_step, 0.0);  // off by default
+  for (const double bad : {-0.1, 1.5, std::nan("")}) {
+    o.lined_wall_rel_step = bad;
+    EXPECT_NE(o.Validate().find("lined_wall_rel_step"), std::string::npos) << bad;
+    EXPECT_THROW(FloorContact(Camera(0.0), o), Error) << bad;
+  }
+  o.lined_wall_rel_step = 1.0;
+  EXPECT_TRUE(o.Validate().empty());
+}
+
 FloorContactOptions MotionOptions() {
   FloorContactOptions o;
   o.motion_window_m = 2.0;  // 0.5 row, 80 % of at least 5 readings: the defaults

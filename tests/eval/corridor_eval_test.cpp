@@ -368,6 +368,19 @@ TEST(CalibrationBaseOptions, TurnsTheFloorMotionTestAndSameSignRefinementOnUnles
   CalibrateOptions bad;
   bad.floor_motion_window_m = -1.0;
   EXPECT_NE(bad.Validate().find("floor_motion_window_m"), std::string::npos);
+  // The lined-wall rule: 0.5 unless the base sets one or asks to keep the base's.
+  EXPECT_EQ(defaults.distance.floor_contact.lined_wall_rel_step, 0.0);  // the Perceiver's default
+  EXPECT_EQ(on.distance.floor_contact.lined_wall_rel_step, 0.5);
+  corridor::CorridorOptions mine_lined;
+  mine_lined.distance.floor_contact.lined_wall_rel_step = 0.7;
+  EXPECT_EQ(CalibrationBaseOptions(mine_lined, {}).distance.floor_contact.lined_wall_rel_step, 0.7);
+  CalibrateOptions keep_lined;
+  keep_lined.floor_lined_wall_rel_step = 0.0;
+  EXPECT_EQ(CalibrationBaseOptions(defaults, keep_lined).distance.floor_contact.lined_wall_rel_step, 0.0);
+  EXPECT_EQ(CalibrationBaseOptions(defaults, heading_only).distance.floor_contact.lined_wall_rel_step, 0.0);
+  CalibrateOptions bad_lined;
+  bad_lined.floor_lined_wall_rel_step = 1.5;
+  EXPECT_NE(bad_lined.Validate().find("floor_lined_wall_rel_step"), std::string::npos);
   CorridorCalibrationFile file;
   file.options = on;
   const CorridorCalibrationFile back = CalibrationFileFromYaml(CalibrationFileToYaml(file), "mem");

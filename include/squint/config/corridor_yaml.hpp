@@ -31,7 +31,8 @@
 //     floor_contact: {enabled: true, half_width_deg: 2, min_step: 6, min_column_fraction: 0.5,
 //                     min_m: 0.3, max_m: 20, overrides_fusion: true, agreement_ratio: 0.5,
 //                     motion_window_m: 0, motion_tol_rows: 0.5, motion_min_fraction: 0.8,
-//                     motion_min_readings: 5, refine_same_sign: false}
+//                     motion_min_readings: 5, refine_same_sign: false,
+//                     lined_wall_rel_step: 0}   # 0 = off; in [0, 1]
 //   gate: {enabled: true, threshold: 0.01}
 #pragma once
 

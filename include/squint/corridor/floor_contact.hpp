@@ -30,6 +30,16 @@ class FloorContact {
   // The boundary row (pixel-centre coordinates, sub-pixel) of column u's profile, scanning down
   // from the horizon; none without a step of min_step.
   std::optional<double> BoundaryRow(const PixelView& frame, int u);
+  // The first edge of at least `min_step` in profile_ (filled from top_row_ down), refined and
+  // sub-pixel as BoundaryRow describes; none without one.
+  std::optional<double> EdgeRow(double min_step) const;
+  // Whether column u shows a step of min_step between neighbouring rows within the band of rows
+  // just above the horizon as deep as `edge_row` lies below it (the lined-wall rule).
+  bool LinedAbove(const PixelView& frame, int u, double edge_row) const;
+  // The mean grey of columns u − 1 … u + 1 in row v.
+  double ColumnGrey(const PixelView& frame, int u, int v) const;
+  // |profile_(v + 1) − profile_(v)|.
+  double Step(int v) const;
 
   CameraModel camera_;
   FloorContactOptions options_;

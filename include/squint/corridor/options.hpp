@@ -200,6 +200,19 @@ struct FloorContactOptions {
   // (drive-3-00c/r: mean row error +0.40 / +0.57, σ 0.75 / 0.91 rows at 5–15 m; with the sign
   // kept +0.02 / +0.10, σ 0.53 / 0.58; docs/calibration.md, session 14).
   bool refine_same_sign = false;
+  // The lined-wall rule (lined_wall_rel_step > 0; 0 = off, the default; `squint calibrate` writes
+  // 0.5 and keeps it only where it lowers the fused RMSE on its drives). The first edge below the
+  // horizon is the end wall's foot only if the wall has no horizontal edges of its own. That is
+  // checked on the wall itself: if the edge at row y, Δ = y − horizon rows below the horizon, were
+  // the foot of a wall at that distance, the Δ rows just above the horizon would show the same
+  // wall from the camera's height up to twice it. Where that band has a step of min_step between
+  // neighbouring rows (brick courses, or the reflected corridor in a mirror end wall), the column
+  // is lined and its edge is searched again, as the first step of at least lined_wall_rel_step
+  // times the column's strongest step below the horizon (and at least min_step): the foot between
+  // two surfaces is the column's strong change, a mortar line a weak one. Plain walls keep the
+  // first edge, where the floor's own edges and reflections below a faint foot can be stronger
+  // (drive-3-00*; docs/calibration.md, session 15).
+  double lined_wall_rel_step = 0.0;
   std::string Validate() const;
 };
 

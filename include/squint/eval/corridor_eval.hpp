@@ -172,6 +172,12 @@ struct CalibrateOptions {
   // the base's. `squint calibrate` keeps it only where it lowers the fused RMSE on its own drives
   // (KeepFloorMotion's rule; docs/calibration.md, session 14).
   bool floor_refine_same_sign = true;
+  // The floor contact's lined-wall rule (corridor::FloorContactOptions::lined_wall_rel_step):
+  // written to the options unless the base options set one (then theirs); 0 = keep the base's.
+  // `squint calibrate` keeps it only where it lowers the fused RMSE on its own drives
+  // (KeepFloorMotion's rule; docs/calibration.md, session 15). 0.5: the rule "a step of at least
+  // half the column's strongest" of docs/eval/floor_contact_rules.py (session 10), not tuned.
+  double floor_lined_wall_rel_step = 0.5;
   // Time to contact's own finer image (corridor::DistanceOptions::ttc_glance_scale), used for the
   // fit's own run and written to the options unless the base options set one (then theirs);
   // 1 = keep the base's.
