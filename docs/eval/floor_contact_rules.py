@@ -15,7 +15,9 @@ refined to the strongest of the next rows, sub-pixel).
 Rules: first; rel.R (first step >= max(6, R x the column's strongest step below the horizon));
 persistW (first step whose mean over W rows below differs from the mean over W rows above by >= 6,
 same sign); relpersist[.R] (both); noline[.K] (skip a step with an opposite step of >= K x it in
-the next or previous row: a thin line such as mortar).
+the next or previous row: a thin line such as mortar); lined[.R] (the lined-wall rule of
+FloorContactOptions::lined_wall_rel_step, session 15: `first`, but where the band of rows just above
+the horizon, as deep as that edge lies below it, has a step >= 6, rel.R instead; R 0.5 by default).
 """
 import argparse
 import csv
@@ -125,7 +127,18 @@ def rule_noline(p, top, k, ms=6.0):
     return None
 
 
-def make_rule(name):
+def rule_lined(p, top, hz, rho, ms=6.0):
+    y = rule_first(p, top, ms)
+    if y is None:
+        return None
+    lo = max(0, math.floor(hz - (y - hz)))
+    band = p[lo:top]
+    if len(band) > 1 and np.abs(np.diff(band)).max() >= ms:
+        return rule_rel(p, top, rho, ms)
+    return y
+
+
+def make_rule(name, hz=None):
     if name == "first":
         return rule_first
     if name.startswith("relpersist"):
@@ -135,15 +148,19 @@ def make_rule(name):
         return lambda p, t: rule_rel(p, t, float(name[3:]))
     if name.startswith("persist"):
         return lambda p, t: rule_persist(p, t, int(name[7:]))
+    if name.startswith("lined"):
+        rho = float(name[5:] or 0.5)
+        return lambda p, t: rule_lined(p, t, hz, rho)
     if name.startswith("noline"):
         k = float(name[6:] or 0.5)
         return lambda p, t: rule_noline(p, t, k)
     raise SystemExit(f"unknown rule '{name}'")
 
 
-def run(seq, step, rules):
+def run(seq, step, names):
     cam, rows = load(seq, step)
     top = max(0, math.ceil(horizon(cam)))
+    rules = {name: make_rule(name, horizon(cam)) for name in names}
     out = {name: [] for name in rules}
     for r in rows:
         d = float(r["gt_dist_end_m"])
@@ -184,7 +201,9 @@ def main():
     ap.add_argument("--rules", default="first,rel.5,persist2,persist3,relpersist")
     ap.add_argument("--step", type=int, default=1, help="use every STEP-th frame")
     a = ap.parse_args()
-    rules = {name: make_rule(name) for name in a.rules.split(",")}
+    rules = a.rules.split(",")
+    for name in rules:
+        make_rule(name, 0.0)  # an unknown rule fails before any image is read
     print(f"{'sequence':<16} {'rule':<12} {'0.3-5 m':>16}  {'5-15 m':>16}")
     for seq in a.sequences:
         out = run(seq, a.step, rules)
