@@ -29,6 +29,7 @@ FloorContact::FloorContact(const CameraModel& camera, const FloorContactOptions&
   u_last_ = std::min(camera_.width - 2, static_cast<int>(std::lround(camera_.cx + half)));
   profile_.assign(static_cast<std::size_t>(camera_.height), 0.0);
   readings_.reserve(static_cast<std::size_t>(std::max(0, u_last_ - u_first_ + 1)));
+  rows_.reserve(readings_.capacity());
 }
 
 std::optional<double> FloorContact::BoundaryRow(const PixelView& frame, int u) {
@@ -36,6 +37,7 @@ std::optional<double> FloorContact::BoundaryRow(const PixelView& frame, int u) {
   for (int v = top_row_; v < h; ++v) profile_[static_cast<std::size_t>(v)] = ColumnGrey(frame, u, v);
   const std::optional<double> first = EdgeRow(options_.min_step);
   if (!first || !(options_.lined_wall_rel_step > 0.0) || !LinedAbove(frame, u, *first)) return first;
+  lined_ = true;
   // A lined wall: the first step that is a fair share of the column's strongest below the horizon.
   double strongest = 0.0;
   for (int v = top_row_ + 1; v < h - 2; ++v) strongest = std::max(strongest, Step(v));
@@ -109,16 +111,26 @@ std::optional<double> FloorContact::EdgeRow(double min_step) const {
 std::optional<double> FloorContact::Measure(const PixelView& frame) {
   if (frame.data == nullptr || frame.width != camera_.width || frame.height != camera_.height) return std::nullopt;
   readings_.clear();
+  rows_.clear();
+  lined_ = false;
   const int columns = u_last_ - u_first_ + 1;
   if (columns <= 0) return std::nullopt;
   for (int u = u_first_; u <= u_last_; ++u) {
     const std::optional<double> y = BoundaryRow(frame, u);
     if (!y) continue;
+    rows_.push_back(*y);
     const std::optional<Eigen::Vector2d> fp = camera_.FloorPoint({static_cast<double>(u), *y});
     if (!fp || !std::isfinite(fp->x()) || fp->x() <= 0.0) continue;
     readings_.push_back(fp->x());
   }
   if (static_cast<double>(readings_.size()) < options_.min_column_fraction * columns || readings_.empty()) return std::nullopt;
+  if (lined_) {
+    // Where the lined-wall rule searched again, the foot must be one line across the columns: at
+    // least min_column_fraction of them within kLinedWallRowSpread of their median row.
+    const double mid = MedianInPlace(rows_);
+    const auto on_line = std::count_if(rows_.begin(), rows_.end(), [&](double y) { return std::abs(y - mid) <= kLinedWallRowSpread; });
+    if (static_cast<double>(on_line) < options_.min_column_fraction * columns) return std::nullopt;
+  }
   const double med = MedianInPlace(readings_);
   if (!(med >= options_.min_m && med <= options_.max_m)) return std::nullopt;
   return med;
@@ -159,6 +171,11 @@ bool FloorMotionCheck::Update(double travel_m, std::optional<double> reading) {
   }
   if (n < options_.motion_min_readings || travel_m - oldest_travel < 0.5 * options_.motion_window_m) return false;
   const double end = MedianInPlace(std::span<double>(scratch_.data(), static_cast<std::size_t>(n)));
+  // A test that an edge fixed in the image passes as well says nothing: over the window's travel
+  // the floor point must cross more than motion_tol_rows (far away, or over a short window, it
+  // does not; a wall's course at the camera's height reads farther than 15 m and stays put).
+  if (!(end - travel_m > 0.0) || FloorRow(end - travel_m) - FloorRow(end - oldest_travel) <= options_.motion_tol_rows)
+    return false;
   int inliers = 0;
   for (int k = 0; k < n; ++k) {
     const auto idx = static_cast<std::size_t>(((head_ - k) % kCap + kCap) % kCap);

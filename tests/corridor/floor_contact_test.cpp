@@ -233,6 +233,43 @@ TEST(FloorContact, LinedWallRuleFindsTheFootBelowMortarLines) {
   }
 }
 
+// Where the lined-wall rule searches again, the columns' edges must lie on one line, as an end
+// wall's foot does. A constructed wall (level camera, horizon at row 59.5): courses above the
+// horizon every 2 rows (lined), a faint course just below it (the first edge), and a strong step
+// at row `foot(u)` below. With one foot row for every column the rule reads that row's floor
+// point; with the strong step at three rows in blocks of columns (a brick wall's courses found
+// again) it reads nothing.
+std::vector<std::uint8_t> CoursedFrame(const CameraModel& cam, int (*foot)(int)) {
+  std::vector<std::uint8_t> px(static_cast<std::size_t>(cam.width * cam.height));
+  for (int v = 0; v < cam.height; ++v)
+    for (int u = 0; u < cam.width; ++u) {
+      int g = 150;
+      if (v >= 50 && v < 60) g = (v / 2) % 2 == 1 ? 175 : 150;  // courses above the horizon
+      else if (v >= 62) g = v > foot(u) ? 40 : 140;  // a faint course, then the strong step
+      px[static_cast<std::size_t>(v * cam.width + u)] = static_cast<std::uint8_t>(g);
+    }
+  return px;
+}
+
+TEST(FloorContact, LinedWallRuleNeedsTheColumnsOnOneLine) {
+  const CameraModel cam = Camera(0.0);
+  FloorContactOptions lined;
+  lined.lined_wall_rel_step = 0.5;
+  FloorContact first(cam, FloorContactOptions{}), rule(cam, lined);
+  const auto one = CoursedFrame(cam, [](int) { return 84; });
+  const std::optional<double> a = rule.Measure(View(one, cam));
+  ASSERT_TRUE(a);
+  EXPECT_NEAR(*a, cam.height_m * cam.fy / (84.5 - 59.5), 0.01);  // the edge between rows 84 and 85
+  EXPECT_FALSE(first.Measure(View(one, cam)));  // without the rule: the faint course, 89 m (> max_m)
+  const auto scattered = CoursedFrame(cam, [](int u) { return 80 + 6 * ((u / 4) % 3); });
+  EXPECT_FALSE(rule.Measure(View(scattered, cam)));
+  // Each block alone is one line and reads its own foot.
+  const auto block = CoursedFrame(cam, [](int) { return 92; });
+  const std::optional<double> b = rule.Measure(View(block, cam));
+  ASSERT_TRUE(b);
+  EXPECT_NEAR(*b, cam.height_m * cam.fy / (92.5 - 59.5), 0.01);
+}
+
 TEST(FloorContactOptions, LinedWallRuleIsValidated) {
   FloorContactOptions o;
   EXPECT_EQ(o.lined_wall_rel_step, 0.0);  // off by default
@@ -305,6 +342,24 @@ TEST(FloorMotionCheck, AWallFeatureOrAJumpingEdgeFails) {
   EXPECT_FALSE(floor.Update(2.1, std::nullopt));  // this frame has no reading
   floor.Reset();
   EXPECT_FALSE(floor.Update(2.2, 5.8));
+}
+
+// An edge fixed in the image (a wall's course at the camera's height reads the same far
+// distance frame after frame) passes the row test wherever a floor point barely moves: 30 m ahead,
+// 2 m of travel moves the floor 0.43 row with this camera, less than the 0.5-row tolerance. Such a
+// window says nothing and fails; a floor point 12 m ahead crosses 3.6 rows and passes.
+TEST(FloorMotionCheck, AWindowThatCannotTellFails) {
+  const CameraModel cam = Camera(0.0);
+  FloorMotionCheck fixed(cam, MotionOptions()), floor(cam, MotionOptions());
+  bool x = true, f = false;
+  for (int i = 0; i <= 20; ++i) {
+    const double t = 0.1 * i;
+    x = fixed.Update(t, 30.0);
+    f = floor.Update(t, 12.0 - t);
+  }
+  EXPECT_LT(fixed.FloorRow(28.0) - fixed.FloorRow(30.0), 0.5);
+  EXPECT_FALSE(x);
+  EXPECT_TRUE(f);
 }
 
 // With the motion test on, the floor contact becomes the fused distance although the cues'

@@ -13,6 +13,14 @@
 
 namespace squint::corridor {
 
+// Where the lined-wall rule searched a column again, the frame's reading stands only when its
+// columns' edges lie on one line: at least min_column_fraction of the columns within this many
+// rows of their median. An end wall's foot across the centre columns (±2°) is one row to within
+// a fraction of a row even at a 10° heading (its depth changes by tan 10° · 4° ≈ 1 %); an edge
+// found again on a brick wall is a course or a joint that differs from column to column
+// (docs/calibration.md, session 16).
+inline constexpr double kLinedWallRowSpread = 1.0;
+
 class FloorContact {
  public:
   // `camera`: the camera of the frames given to Measure (intrinsics, height and pitch). Throws
@@ -48,6 +56,8 @@ class FloorContact {
   int u_last_ = 0;
   std::vector<double> profile_;
   std::vector<double> readings_;
+  std::vector<double> rows_;  // the answering columns' edge rows
+  bool lined_ = false;        // the lined-wall rule searched again in some column of this frame
 };
 
 // The floor contact's motion test (FloorContactOptions::motion_window_m): whether the recent raw

@@ -186,7 +186,9 @@ struct FloorContactOptions {
   // scatters. Unlike the agreement above, the test does not lean on the cues, whose fused
   // distance far away reads short where a near structure stays in view (a bin in the corridor,
   // drive-3-02*), so the agreement rejected a right floor contact there (docs/calibration.md,
-  // session 14).
+  // session 14). A window over which the floor point E − t crosses no more than motion_tol_rows
+  // fails: an edge fixed in the image would pass it too (far away a row spans metres; a brick
+  // course at the camera's height reads 15–20 m frame after frame; session 16).
   double motion_window_m = 0.0;
   double motion_tol_rows = 0.5;
   double motion_min_fraction = 0.8;
@@ -211,7 +213,9 @@ struct FloorContactOptions {
   // times the column's strongest step below the horizon (and at least min_step): the foot between
   // two surfaces is the column's strong change, a mortar line a weak one. Plain walls keep the
   // first edge, where the floor's own edges and reflections below a faint foot can be stronger
-  // (drive-3-00*; docs/calibration.md, session 15).
+  // (drive-3-00*; docs/calibration.md, session 15). Where a column was searched again, the frame
+  // reads only if its columns' edges lie on one line (kLinedWallRowSpread, floor_contact.hpp): a
+  // course found again near a brick wall differs from column to column (session 16).
   double lined_wall_rel_step = 0.0;
   std::string Validate() const;
 };
