@@ -58,6 +58,12 @@ struct ExplorerVariants {
   // A sonar column clears the memory only up to its own reading, so the median across columns
   // does not erase a thin thing such as a chair leg (ObstacleMemoryOptions::clear_own_within_m; off).
   bool own_range_clearing = false;
+  // The walls' base lines from the floor's texture steer the corridor axis
+  // (ExplorerOptions::wall_line_axis_gain; off).
+  bool wall_lines = false;
+  // At the end of a corridor a side open by entropy is open where the remembered points leave it
+  // free, whatever the latest scan's blocked-near columns say (ExplorerOptions::end_probe_memory; off).
+  bool end_probe_memory = false;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -70,6 +76,8 @@ struct ExplorerVariants {
     ro.explorer.light_drift_gain = light_drift_gain;
     ro.obstacle_pipeline = obstacle_pipeline;
     ro.explorer.memory.clear_own_within_m = own_range_clearing ? 1.2 : 0.0;
+    ro.explorer.wall_line_axis_gain = wall_lines ? 0.2 : 0.0;
+    ro.explorer.end_probe_memory = end_probe_memory;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -98,6 +106,10 @@ struct ExplorerVariants {
                   text("Run the obstacle pipeline (inverse perspective, outlines, polar map, free-gap steering) on a 256x192 frame every 12th frame while following; its advice overrides the corridor following (off by default; docs/explore.md)"));
     cmd->add_flag("--own-range-clearing,!--no-own-range-clearing", own_range_clearing,
                   text("A visual-sonar column clears the obstacle memory only up to its own reading within 1.2 m (none where it was itself blocked near), so thin things such as chair legs stay remembered (off by default; docs/explore.md, session 14)"));
+    cmd->add_flag("--wall-lines,!--no-wall-lines", wall_lines,
+                  text("The walls' base lines, where the floor's texture ends in a 128x96 frame every 3rd frame, steer the corridor axis while following; measured with --end-probe-memory (off by default; docs/explore.md, session 15)"));
+    cmd->add_flag("--end-probe-memory,!--no-end-probe-memory", end_probe_memory,
+                  text("At the end of a corridor a side open by the entropy rule is open where the remembered points leave it free, whatever the latest sonar scan's blocked-near columns say (off by default; docs/explore.md, session 15)"));
   }
 };
 

@@ -62,6 +62,11 @@ std::string ExploreRunOptions::Validate() const {
   if (!(sensor_noise_sigma >= 0.0) || !std::isfinite(sensor_noise_sigma)) return "sensor_noise_sigma must be >= 0";
   if (sonar_every < 1 || sonar_every > 30) return "sonar_every must be in [1, 30]";
   if (std::string e = light_line.Validate(); !e.empty()) return e;
+  if (wall_lines_every < 1 || wall_lines_every > 30) return "wall_lines_every must be in [1, 30]";
+  if (wall_lines_width < 16 || wall_lines_width > 1024 || wall_lines_height < 16 || wall_lines_height > 1024)
+    return "wall_lines_width and wall_lines_height must be in [16, 1024]";
+  if (wall_lines_supersample < 1 || wall_lines_supersample > 8) return "wall_lines_supersample must be in [1, 8]";
+  if (std::string e = wall_lines.Validate(); !e.empty()) return e;
   if (sonar_width < 16 || sonar_width > 640 || sonar_height < 12 || sonar_height > 480) return "sonar size must be within 16x12..640x480";
   if (sonar_supersample < 1 || sonar_supersample > 8) return "sonar_supersample must be in [1, 8]";
   if (std::string e = sonar.Validate(); !e.empty()) return "sonar." + e;
@@ -124,6 +129,24 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
     sonar_renderer.emplace(world, sonar_camera, sr);
     sonar.emplace(sonar_camera, options.sonar);
     sonar_image.create(sonar_camera.height, sonar_camera.width, CV_8UC1);
+  }
+
+  // The walls' lines' frame: the camera at wall_lines_width × wall_lines_height, cropped like the
+  // sonar's (rows from a little above the horizon down).
+  std::optional<sim::Renderer> wall_renderer;
+  std::optional<CameraModel> wall_camera;
+  cv::Mat wall_image;
+  if (options.explorer.wall_line_axis_gain > 0.0) {
+    CameraModel wc = world.camera.Model().Scaled(options.wall_lines_width, options.wall_lines_height);
+    const int crop_top = std::clamp(static_cast<int>(std::floor(wc.HorizonRow())) - 4, 0, wc.height / 2);
+    wc.height -= crop_top;
+    wc.cy -= crop_top;
+    sim::RenderOptions wr = render;
+    wr.supersample = options.wall_lines_supersample;
+    wr.seed = options.seed + 3000003u;
+    wall_renderer.emplace(world, wc, wr);
+    wall_camera = wc;
+    wall_image.create(wc.height, wc.width, CV_8UC1);
   }
 
   // The obstacle pipeline's frames: the camera at ipt_width × ipt_height, rendered every ipt_every
@@ -222,6 +245,14 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
       }
     }
     p.glance_entropy_nats = r.entropy;
+    if (wall_renderer && explorer.State() == explore::ExploreState::kFollow && f % options.wall_lines_every == 0) {
+      MutableGrayView wv{wall_image.data, wall_image.cols, wall_image.rows, static_cast<std::ptrdiff_t>(wall_image.step)};
+      wall_renderer->Render(world_T_robot, wv, nullptr, 0, nullptr, 0, static_cast<std::uint64_t>(f));
+      const double cpu4 = ThreadCpuSeconds();
+      const explore::WallLines wl = explore::FindWallLines(wv, *wall_camera, options.wall_lines);
+      perception_cpu += ThreadCpuSeconds() - cpu4;
+      if (wl.valid) p.wall_line_heading_deg = wl.HeadingDeg();
+    }
     if (sonar && f % options.sonar_every == 0) {
       MutableGrayView sv{sonar_image.data, sonar_image.cols, sonar_image.rows, static_cast<std::ptrdiff_t>(sonar_image.step)};
       sonar_renderer->Render(world_T_robot, sv, nullptr, 0, nullptr, 0, static_cast<std::uint64_t>(f));

@@ -125,6 +125,12 @@ std::string ExplorerOptions::Validate() const {
       !Positive(light_drift_max_deg) || !NonNegative(light_drift_min_span_m) || light_drift_min_readings < 3)
     return "light_drift_*: gate, window, residual and angle must be positive, min readings >= 3";
   if (!Positive(light_axis_gate_deg)) return "light_axis_gate_deg must be positive";
+  if (!NonNegative(wall_line_axis_gain) || wall_line_axis_gain > 1.0) return "wall_line_axis_gain must be in [0, 1]";
+  if (!Positive(wall_line_gate_deg) || wall_line_gate_deg > 45.0) return "wall_line_gate_deg must be in (0, 45]";
+  if (wall_line_confirm < 1) return "wall_line_confirm must be at least 1";
+  if (!NonNegative(wall_line_agree_deg)) return "wall_line_agree_deg must be >= 0";
+  if (!Positive(wall_line_hold_s)) return "wall_line_hold_s must be positive";
+  if (!NonNegative(wall_line_min_diff_deg)) return "wall_line_min_diff_deg must be >= 0";
   if (!NonNegative(mouth_centre_min_m)) return "mouth_centre_min_m must be >= 0";
   if (!(mouth_centre_max_m >= mouth_centre_min_m && std::isfinite(mouth_centre_max_m)))
     return "mouth_centre_max_m must be >= mouth_centre_min_m";
@@ -583,6 +589,8 @@ void Explorer::StartFollow(const Percept&) {
   light_drift_.clear();
   light_confirmed_s_ = -1.0;
   light_axis_s_ = -1.0;
+  wall_line_readings_.clear();
+  wall_line_axis_s_ = -1.0;
   ref_entropy_.clear();
   ref_next_ = 0;
   gate_reset_ = true;
@@ -595,13 +603,24 @@ void Explorer::StartFollow(const Percept&) {
 
 void Explorer::UpdateAxis(const Percept& p) {
   if (!p.processed || !p.heading_deg) return;
+
   const double measured_axis = p.odom_T_robot.yaw - DegToRad(*p.heading_deg);
   const double innovation = WrapPi(measured_axis - axis_yaw_odom_);
   if (std::abs(innovation) > DegToRad(opt_.axis_outlier_deg)) {
     outlier_axes_.push_back(innovation);
     if (static_cast<int>(outlier_axes_.size()) >= opt_.axis_reacquire_frames) {
       std::nth_element(outlier_axes_.begin(), outlier_axes_.begin() + static_cast<std::ptrdiff_t>(outlier_axes_.size() / 2), outlier_axes_.end());
-      axis_yaw_odom_ = WrapPi(axis_yaw_odom_ + outlier_axes_[outlier_axes_.size() / 2]);
+      double by = outlier_axes_[outlier_axes_.size() / 2];
+      // While the walls' lines hold the axis modulo 90°, a re-acquisition (a corner rounded) can
+      // only turn it by a multiple of 90°; none at all, and the glance's outliers are dropped.
+      if (WallLinesHold(p.stamp_s)) {
+        by = kPi / 2 * std::round(by / (kPi / 2));
+        if (by == 0.0) {
+          outlier_axes_.clear();
+          return;
+        }
+      }
+      axis_yaw_odom_ = WrapPi(axis_yaw_odom_ + by);
       // Re-acquired near another map direction (the robot went round a corner without stopping):
       // drive on in that direction; the corridor just left has no known end node, so its edge
       // is dropped, and the side tracks start afresh.
@@ -623,6 +642,8 @@ void Explorer::UpdateAxis(const Percept& p) {
     return;
   }
   outlier_axes_.clear();
+  // While the walls' lines steer the axis, the glance's inliers do not.
+  if (WallLinesHold(p.stamp_s)) return;
   // While the lights' line steers the axis (light_axis_gain), the glance's inliers do not.
   if (opt_.light_axis_gain > 0.0 && light_axis_s_ >= 0.0 && p.stamp_s - light_axis_s_ <= opt_.light_hold_s) return;
   // With the heading filter, an inlier moves the axis toward the filtered heading's axis.
@@ -716,7 +737,34 @@ bool Explorer::LightLateral(double stamp_s, const Pose2& odom_T_robot, double* l
   return true;
 }
 
+bool Explorer::WallLinesHold(double stamp_s) const {
+  return opt_.wall_line_axis_gain > 0.0 && wall_line_axis_s_ >= 0.0 && stamp_s - wall_line_axis_s_ <= opt_.wall_line_hold_s;
+}
+
+void Explorer::UpdateWallLines(const Percept& p) {
+  if (opt_.wall_line_axis_gain <= 0.0 || !p.wall_line_heading_deg) return;
+  // The axis this reading implies, modulo 90° the one nearest the axis held.
+  const double raw = WrapPi(p.odom_T_robot.yaw - DegToRad(*p.wall_line_heading_deg));
+  const double diff = std::remainder(raw - axis_yaw_odom_, kPi / 2);
+  if (std::abs(diff) > DegToRad(opt_.wall_line_gate_deg)) return;
+  if (!wall_line_readings_.empty() && p.stamp_s - wall_line_readings_.back().stamp_s > opt_.wall_line_hold_s)
+    wall_line_readings_.clear();
+  wall_line_readings_.push_back({p.stamp_s, WrapPi(axis_yaw_odom_ + diff)});
+  if (static_cast<int>(wall_line_readings_.size()) > opt_.wall_line_confirm) wall_line_readings_.erase(wall_line_readings_.begin());
+  if (static_cast<int>(wall_line_readings_.size()) < opt_.wall_line_confirm) return;
+  // Agreement, as differences from the newest (all near the axis held, so no wrap across ±π/4).
+  std::vector<double> d;
+  for (const WallLineReading& r : wall_line_readings_) d.push_back(WrapPi(r.axis_rad - wall_line_readings_.back().axis_rad));
+  std::sort(d.begin(), d.end());
+  if (d.back() - d.front() > DegToRad(opt_.wall_line_agree_deg)) return;
+  const double target = WrapPi(wall_line_readings_.back().axis_rad + d[d.size() / 2]);
+  if (std::abs(WrapPi(target - axis_yaw_odom_)) < DegToRad(opt_.wall_line_min_diff_deg)) return;
+  RotateAxis(opt_.wall_line_axis_gain * WrapPi(target - axis_yaw_odom_));
+  wall_line_axis_s_ = p.stamp_s;
+}
+
 Command Explorer::FollowStep(const Percept& p) {
+  UpdateWallLines(p);
   UpdateAxis(p);
   if (opt_.light_axis_gain > 0.0 && p.light_heading_deg) {
     // The axis the lights' line implies (odometry yaw − its heading), near the one held.
@@ -789,6 +837,7 @@ Command Explorer::FollowStep(const Percept& p) {
          Format("end: fused distance %.2f m, entropy %.2f of reference %.2f, sonar free %.2f m (%s)", dist_end_m_,
                 p.glance_entropy_nats.value_or(-1.0), last_ref_entropy_, axis_free, end_by_sonar ? "sonar" : "entropy/distance"));
     StartProbe();
+    probe_at_end_ = true;
     return {};
   }
   // Side branches passed along the corridor (with the sonar): stop at a new one and probe.
@@ -1026,6 +1075,7 @@ bool Explorer::OnOpening(const Percept& p, int side, double width_m) {
 }
 
 void Explorer::StartProbe() {
+  probe_at_end_ = false;
   // A dead end judged on an earlier visit: look at its sides again (at most
   // reprobe_dead_end_visits times per node).
   if (node_ >= 0) {
@@ -1110,7 +1160,15 @@ Command Explorer::ProbeStep(const Percept& p) {
   const bool open_by_entropy = h >= opt_.open_entropy_ratio * last_ref_entropy_;
   const bool open_by_sonar = side_free_m_[probe_phase_] >= opt_.sonar_open_free_m &&
                              h >= opt_.sonar_open_min_entropy_ratio * last_ref_entropy_;
-  const bool open = sonar_seen_ ? open_by_sonar || ((side_dir == gap_side_dir_ || side_dir == gap_other_dir_) && open_by_entropy)
+  // At the end of a corridor, the latest scan's blocked-near columns facing this side may be the
+  // near wall of a branch whose mouth the robot stands off-centre in (an L corner reached along
+  // its end wall): with end_probe_memory, a side the entropy rule calls open is open where the
+  // remembered points alone leave it free.
+  const bool open_by_memory = opt_.end_probe_memory && probe_at_end_ && sonar_seen_ && open_by_entropy &&
+                              memory_.FreeTravel(p.odom_T_robot, rot_.target_yaw, opt_.robot_radius_m + opt_.safety_margin_m,
+                                                 opt_.lookahead_m + 1.0, false, true) >= opt_.sonar_open_free_m;
+  const bool open = sonar_seen_ ? open_by_sonar || open_by_memory ||
+                                      ((side_dir == gap_side_dir_ || side_dir == gap_other_dir_) && open_by_entropy)
                                 : open_by_entropy;
   map_.SetBranch(node_, side_dir, open ? Branch::kOpen : Branch::kWall);
   ++n_probes_;

@@ -36,6 +36,7 @@ struct ToyCorridor {
   bool filtered = false;
   bool lights = false;  // every frame carries the lights' line's heading (the truth)
   bool light_offsets = false;  // and the robot's offset from it (a centre row: the lateral offset)
+  bool wall_lines = false;     // every third frame carries the walls' lines' heading (the truth)
 
   Pose2 pose;        // true pose
   Pose2 odom;        // odometry
@@ -63,6 +64,7 @@ struct ToyCorridor {
     p.processed = frame % process_every == 0;
     if (lights) p.light_heading_deg = heading_deg;
     if (light_offsets) p.light_lateral_m = lateral;
+    if (wall_lines && frame % 3 == 0) p.wall_line_heading_deg = heading_deg;
     if (p.processed) {
       p.heading_deg = heading_deg + (pose.x >= bias_from_x ? per_frame_bias_deg : 0.0);
       if (filtered) p.heading_filtered_deg = heading_deg;
@@ -232,9 +234,12 @@ TEST(Explorer, HeadingHeldThroughGatedFramesDespiteOdometryDrift) {
 // The worst true yaw (degrees) between x = 4 and x = 8 while following without centring, the
 // per-frame heading biased by 8° from x = 1.
 double WorstYawWithBiasedPerFrameHeading(bool filtered, double filtered_axis_gain, bool lights = false,
-                                         double light_axis_gain = 0.0, double light_drift_gain = 0.0) {
+                                         double light_axis_gain = 0.0, double light_drift_gain = 0.0,
+                                         bool wall_lines = false, double wall_line_axis_gain = 0.0,
+                                         double wall_line_min_diff_deg = 0.0) {
   ToyCorridor world;
   world.per_frame_bias_deg = 8.0;
+  world.wall_lines = wall_lines;
   world.filtered = filtered;
   world.lights = lights;
   world.light_offsets = light_drift_gain > 0.0;
@@ -242,6 +247,8 @@ double WorstYawWithBiasedPerFrameHeading(bool filtered, double filtered_axis_gai
   o.filtered_axis_gain = filtered_axis_gain;
   o.light_axis_gain = light_axis_gain;
   o.light_drift_gain = light_drift_gain;
+  o.wall_line_axis_gain = wall_line_axis_gain;
+  o.wall_line_min_diff_deg = wall_line_min_diff_deg;
   o.centre_gain = 0.0;  // no centring: the yaw shows the axis alone
   if (light_drift_gain > 0.0) o.light_centre_gain = 0.0;  // nor on the lights
   Explorer explorer(o);
@@ -275,6 +282,20 @@ TEST(Explorer, AxisFollowsTheLightsLineDriftWhenEnabled) {
   // The offsets from the lights' line drift while the biased per-frame heading holds the robot
   // off the axis; their drift over the odometry's travel turns the axis back.
   EXPECT_LT(WorstYawWithBiasedPerFrameHeading(false, 0.0, true, 0.0, 0.2), 2.0);
+}
+
+TEST(Explorer, AxisFollowsTheWallLinesWhenEnabled) {
+  // The walls' lines given but not used: the biased per-frame heading turns the robot off.
+  EXPECT_GT(WorstYawWithBiasedPerFrameHeading(false, 0.0, false, 0.0, 0.0, true, 0.0), 5.0);
+  // Used: they hold the axis, and the glance's biased inliers are left out while they do.
+  EXPECT_LT(WorstYawWithBiasedPerFrameHeading(false, 0.0, false, 0.0, 0.0, true, 0.2), 1.0);
+  // The heading filter's gain does not take the axis back from them.
+  EXPECT_LT(WorstYawWithBiasedPerFrameHeading(false, 0.2, false, 0.0, 0.0, true, 0.2), 1.0);
+  // With the default dead band (4°) the glance moves the axis until it is that far off, and the
+  // lines then keep it there: the 8° bias is held to about the band.
+  const double banded = WorstYawWithBiasedPerFrameHeading(false, 0.0, false, 0.0, 0.0, true, 0.2, 4.0);
+  EXPECT_GT(banded, 2.0);
+  EXPECT_LT(banded, 5.0);
 }
 
 TEST(Explorer, HeadingFilterResetAtEveryNewCorridor) {

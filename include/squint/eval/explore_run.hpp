@@ -17,6 +17,7 @@
 #include "squint/corridor/options.hpp"
 #include "squint/explore/explorer.hpp"
 #include "squint/explore/light_line.hpp"
+#include "squint/explore/wall_lines.hpp"
 #include "squint/explore/obstacle_advice.hpp"
 #include "squint/obstacles/avoider.hpp"
 #include "squint/obstacles/ipt_pipeline.hpp"
@@ -47,6 +48,15 @@ struct ExploreRunOptions {
   explore::VisualSonarOptions sonar;
   // The ceiling lights' line in each glance, found where explorer.light_centre_gain > 0.
   explore::LightLineOptions light_line;
+  // The walls' base lines (wall_lines.hpp) on a camera frame of wall_lines_width ×
+  // wall_lines_height (only the rows from a little above the horizon down are rendered), every
+  // wall_lines_every frames while the explorer follows a corridor, where
+  // explorer.wall_line_axis_gain > 0.
+  int wall_lines_every = 3;
+  int wall_lines_width = 128;
+  int wall_lines_height = 96;
+  int wall_lines_supersample = 2;
+  explore::WallLineOptions wall_lines;
   // Obstacle pipeline (issue 6: IPT feature classification, outlines, contacts, polar map,
   // free-gap steering) on a camera frame of ipt_width × ipt_height rendered every ipt_every frames
   // while the explorer follows a corridor; each frame is paired with the previous one (odometry

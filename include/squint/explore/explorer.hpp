@@ -194,6 +194,32 @@ struct ExplorerOptions {
   int light_drift_min_readings = 10;
   double light_drift_max_rms_m = 0.06;
   double light_drift_max_deg = 12.0;
+  // The walls' base lines from the floor's texture (Percept::wall_line_heading_deg, a 128×96
+  // frame; wall_lines.hpp) steer the corridor axis while following. Each reading gives an axis
+  // (odometry yaw − its heading, modulo 90° the one nearest the axis held) when it lies within
+  // wall_line_gate_deg of it; once the last wall_line_confirm readings, each within
+  // wall_line_hold_s of the next, agree within wall_line_agree_deg, each reading moves the axis by
+  // wall_line_axis_gain of the difference to their median. Within wall_line_hold_s of such a move
+  // the glance's headings leave the axis alone (neither inliers nor re-acquisition): where the
+  // walls have the floor's grey the glance's cues scatter by 10° and more (corridor-2, `default`'s
+  // carpeted middle corridor) while the lines read within 1–2°. A confirmed median within
+  // wall_line_min_diff_deg of the axis leaves it alone (where the glance reads well the lines only
+  // guard against its larger errors). 0 turns it off (the default; `squint explore --wall-lines`
+  // sets 0.2; docs/explore.md, session 15).
+  double wall_line_axis_gain = 0.0;
+  double wall_line_gate_deg = 30.0;
+  int wall_line_confirm = 3;
+  double wall_line_agree_deg = 3.0;
+  double wall_line_hold_s = 1.0;
+  double wall_line_min_diff_deg = 4.0;
+  // At the end of a corridor (not at a side branch or a blockage), a side the entropy rule calls
+  // open (open_entropy_ratio) is also open where the remembered points alone leave it free for
+  // sonar_open_free_m, whatever the latest scan's blocked-near columns say. With an axis held
+  // exactly (wall_line_axis_gain) the robot arrives at an L corner's end wall instead of rounding
+  // the corner, and looking into the branch from beside its mouth the near wall of the branch
+  // stands inside the sonar's blind range: every `default` corner was a dead end. Off by default
+  // (`squint explore --end-probe-memory`; docs/explore.md, session 15).
+  bool end_probe_memory = false;
   double rescan_yaw_deg = 12.0;       // no forward motion until a scan was taken at the heading
   // Following: after this travel in the corridor the latest scan's blocked-near columns block only
   // the narrow sector at the blind range, and those along which the floor in the blind zone was
@@ -441,6 +467,16 @@ class Explorer {
   double light_across_m_ = 0.0;
   double light_confirmed_s_ = -1.0;
   double light_axis_s_ = -1.0;  // when the lights' line last moved the axis (light_axis_gain)
+  // The walls' lines' recent axes (odometry frame) and when they last moved the axis.
+  struct WallLineReading {
+    double stamp_s = 0.0;
+    double axis_rad = 0.0;
+  };
+  std::vector<WallLineReading> wall_line_readings_;
+  double wall_line_axis_s_ = -1.0;
+  void UpdateWallLines(const Percept& p);
+  bool WallLinesHold(double stamp_s) const;
+  bool probe_at_end_ = false;  // the probe under way was started by the end of a corridor
   void UpdateLight(const Percept& p);
 
   // Follow.

@@ -41,6 +41,10 @@ struct Percept {
   // robot's heading relative to it (degrees, left positive).
   std::optional<double> light_lateral_m;
   std::optional<double> light_heading_deg;
+  // The walls' base lines where the floor's texture ends (wall_lines.hpp), when a frame for them
+  // was taken and they were found: the robot's heading relative to them, modulo 90° in
+  // [−45°, 45°) (degrees, left positive).
+  std::optional<double> wall_line_heading_deg;
   // Whole-glance grey-level entropy (nats); the gate computes it on every frame, processed or not.
   std::optional<double> glance_entropy_nats;
   std::optional<ObstacleAdvice> obstacles;   // empty when the obstacle pipeline is off

@@ -1,0 +1,158 @@
+// The walls' base lines (explore/wall_lines.hpp) on constructed frames: a textured floor between
+// two smooth walls, drawn by the camera model, at known directions and offsets.
+#include "squint/explore/wall_lines.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "squint/core/angles.hpp"
+
+namespace squint::explore {
+namespace {
+
+CameraModel Camera128() {
+  CameraModel c;
+  c.width = 128;
+  c.height = 96;
+  c.fx = c.fy = 0.5 * 128 / std::tan(DegToRad(55.0) / 2.0);
+  c.cx = 63.5;
+  c.cy = 47.5;
+  c.height_m = 0.55;
+  c.pitch_deg = -2.0;
+  return c;
+}
+
+// A corridor whose walls run along `direction_deg` in the robot frame (left positive), the left
+// wall `left_m` and the right wall `right_m` from the robot (distances along the walls' normal).
+// The floor between them carries a speckle of 4 cm cells (or, without `textured_floor`, the
+// walls' own grey); the walls are a smooth grey with a gentle vertical shading; the ceiling and
+// what lies beyond max_floor_m are plain.
+std::vector<std::uint8_t> Draw(const CameraModel& cam, double direction_deg, double left_m, double right_m,
+                               double max_floor_m = 30.0, bool textured_floor = true) {
+  std::vector<std::uint8_t> img(static_cast<std::size_t>(cam.width * cam.height));
+  const double t = DegToRad(direction_deg);
+  const Eigen::Vector2d along(std::cos(t), std::sin(t)), normal(-std::sin(t), std::cos(t));
+  for (int v = 0; v < cam.height; ++v) {
+    for (int u = 0; u < cam.width; ++u) {
+      std::uint8_t g = static_cast<std::uint8_t>(120 + v / 8);  // wall (or ceiling)
+      if (const auto p = cam.FloorPoint({static_cast<double>(u), static_cast<double>(v)})) {
+        const double across = normal.dot(*p);
+        if (across < left_m && across > -right_m && p->norm() < max_floor_m) {
+          if (textured_floor) {
+            const auto a = static_cast<std::int64_t>(std::floor(along.dot(*p) / 0.04));
+            const auto b = static_cast<std::int64_t>(std::floor(across / 0.04));
+            std::uint64_t h = static_cast<std::uint64_t>(a * 73856093LL) ^ static_cast<std::uint64_t>(b * 19349663LL);
+            h ^= h >> 13;
+            h *= 0x9E3779B97F4A7C15ULL;
+            h ^= h >> 29;
+            g = static_cast<std::uint8_t>(90 + static_cast<int>(h % 60));
+          }
+        }
+      }
+      img[static_cast<std::size_t>(v * cam.width + u)] = g;
+    }
+  }
+  return img;
+}
+
+GrayView View(const CameraModel& cam, const std::vector<std::uint8_t>& img) {
+  return {img.data(), cam.width, cam.height, cam.width};
+}
+
+TEST(WallLines, TwoWallsGiveTheirDirectionAndOffsets) {
+  const CameraModel cam = Camera128();
+  for (const double dir_deg : {-25.0, -10.0, 0.0, 7.0, 20.0}) {
+    const auto img = Draw(cam, dir_deg, 1.1, 1.6);
+    std::vector<Eigen::Vector2d> pts;
+    const WallLines w = FindWallLines(View(cam, img), cam, {}, &pts);
+    ASSERT_TRUE(w.valid) << dir_deg;
+    EXPECT_NEAR(RadToDeg(w.direction_rad), dir_deg, 1.0) << dir_deg;
+    EXPECT_NEAR(w.HeadingDeg(), -dir_deg, 1.0) << dir_deg;
+    EXPECT_GE(w.inliers, 10);
+    // The main line is one of the two walls, the parallel one (both in view only when the
+    // corridor runs within about 10° of the optical axis) the other.
+    const double a = std::abs(w.offset_m - 1.1) < std::abs(w.offset_m + 1.6) ? 1.1 : -1.6;
+    const double b = a > 0.0 ? -1.6 : 1.1;
+    EXPECT_NEAR(w.offset_m, a, 0.08) << dir_deg;
+    if (std::abs(dir_deg) <= 10.0) {
+      EXPECT_GT(w.parallel_inliers, 0) << dir_deg;
+      EXPECT_NEAR(w.parallel_offset_m, b, 0.12) << dir_deg;
+    }
+    EXPECT_LT(w.rms_m, 0.05);
+    EXPECT_EQ(static_cast<int>(pts.size()), w.points);
+  }
+}
+
+TEST(WallLines, HeadingIsTakenModuloNinetyDegrees) {
+  WallLines w;
+  w.direction_rad = DegToRad(80.0);  // an end wall's line seen with the robot turned 10° right of the axis
+  EXPECT_NEAR(w.HeadingDeg(), 10.0, 1e-9);
+  w.direction_rad = DegToRad(-50.0);
+  EXPECT_NEAR(w.HeadingDeg(), -40.0, 1e-9);
+  w.direction_rad = DegToRad(45.0);
+  EXPECT_NEAR(w.HeadingDeg(), -45.0, 1e-9);
+}
+
+TEST(WallLines, SameFrameSameAnswer) {
+  const CameraModel cam = Camera128();
+  const auto img = Draw(cam, 12.0, 0.9, 1.4);
+  const WallLines a = FindWallLines(View(cam, img), cam);
+  const WallLines b = FindWallLines(View(cam, img), cam);
+  ASSERT_TRUE(a.valid);
+  EXPECT_EQ(a.direction_rad, b.direction_rad);
+  EXPECT_EQ(a.offset_m, b.offset_m);
+  EXPECT_EQ(a.inliers, b.inliers);
+}
+
+TEST(WallLines, NoFloorTextureNoReading) {
+  // A smooth floor of the walls' own grey: nothing tells them apart.
+  const CameraModel cam = Camera128();
+  const auto img = Draw(cam, 5.0, 1.0, 1.0, 30.0, false);
+  const WallLines w = FindWallLines(View(cam, img), cam);
+  EXPECT_FALSE(w.valid);
+  EXPECT_EQ(w.points, 0);
+  const std::vector<std::uint8_t> flat(static_cast<std::size_t>(cam.width * cam.height), 128);
+  EXPECT_FALSE(FindWallLines(View(cam, flat), cam).valid);
+}
+
+TEST(WallLines, TextureEndingAtOneRowSaysNothing) {
+  // A wide floor whose texture fades out 4 m ahead: the boundary is one image row across the
+  // view, a line across the optical axis whatever the walls do.
+  const CameraModel cam = Camera128();
+  const auto img = Draw(cam, 15.0, 30.0, 30.0, 4.0);
+  const WallLines w = FindWallLines(View(cam, img), cam);
+  EXPECT_FALSE(w.valid);
+  EXPECT_GT(w.points, 20);
+}
+
+TEST(WallLines, TooSmallOrEmptyFrameGivesNoReading) {
+  const CameraModel cam = Camera128();
+  std::vector<std::uint8_t> tiny(128 * 10, 100);
+  EXPECT_FALSE(FindWallLines(GrayView{tiny.data(), 128, 10, 128}, cam).valid);
+  EXPECT_FALSE(FindWallLines(GrayView{}, cam).valid);
+}
+
+TEST(WallLines, OptionsValidate) {
+  EXPECT_EQ(WallLineOptions{}.Validate(), "");
+  WallLineOptions o;
+  o.base_row_offset = 9.0;
+  EXPECT_NE(o.Validate().find("base_row_offset"), std::string::npos);
+  o = {};
+  o.smooth_ratio = 1.5;
+  EXPECT_NE(o.Validate().find("smooth_ratio"), std::string::npos);
+  o = {};
+  o.min_inliers = 2;
+  EXPECT_NE(o.Validate().find("min_inliers"), std::string::npos);
+  o = {};
+  o.inlier_m = 0.0;
+  EXPECT_NE(o.Validate().find("inlier_m"), std::string::npos);
+  o = {};
+  o.max_range_m = std::nan("");
+  EXPECT_NE(o.Validate().find("max_range_m"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace squint::explore
