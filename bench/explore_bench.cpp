@@ -1,6 +1,7 @@
 // Closed-loop exploration speed: one control step (render the 32×24 glance, corridor perception
 // with the gate, explorer, robot step) in the built-in default world; the explorer alone; and the
-// visual sonar (one 64×31 cropped frame, rendered outside the loop) with its memory update.
+// visual sonar (one 64×31 cropped frame, rendered outside the loop) with its memory update; the
+// walls' base lines on one cropped 128×96 frame.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 #include "squint/explore/explorer.hpp"
 #include "squint/explore/obstacle_memory.hpp"
 #include "squint/explore/visual_sonar.hpp"
+#include "squint/explore/wall_lines.hpp"
 #include "squint/sim/renderer.hpp"
 #include "squint/sim/robot.hpp"
 #include "squint/sim/world.hpp"
@@ -92,5 +94,22 @@ void BM_VisualSonar(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_VisualSonar)->Name("visual_sonar_scan_us")->Unit(benchmark::kMicrosecond);
+
+// The walls' base lines on the loop's 128×96 frame (cropped from a little above the horizon, as
+// the runner renders it) in corridor-2's carpeted corridor, rendered outside the loop.
+void BM_WallLines(benchmark::State& state) {
+  const sim::World world = sim::LoadWorld("corridor-2");
+  CameraModel cam = world.camera.Model().Scaled(128, 96);
+  const int crop = static_cast<int>(std::floor(cam.HorizonRow())) - 4;
+  cam.height -= crop;
+  cam.cy -= crop;
+  sim::RenderOptions ro;
+  ro.noise_sigma = 1.0;
+  sim::Renderer renderer(world, cam, ro);
+  const cv::Mat image = renderer.Render(Pose2{8.0, 0.3, 0.15});
+  const GrayView view{image.data, image.cols, image.rows, static_cast<std::ptrdiff_t>(image.step)};
+  for (auto _ : state) benchmark::DoNotOptimize(explore::FindWallLines(view, cam));
+}
+BENCHMARK(BM_WallLines)->Name("wall_lines_us")->Unit(benchmark::kMicrosecond);
 
 }  // namespace
