@@ -18,6 +18,16 @@
 namespace squint::eval {
 namespace {
 
+// The camera cropped to the rows from a little above the horizon down (same intrinsics, principal
+// point moved): the visual sonar and the walls' lines use only those, which saves rendering the
+// ceiling.
+CameraModel BelowHorizon(CameraModel camera) {
+  const int crop_top = std::clamp(static_cast<int>(std::floor(camera.HorizonRow())) - 4, 0, camera.height / 2);
+  camera.height -= crop_top;
+  camera.cy -= crop_top;
+  return camera;
+}
+
 double ThreadCpuSeconds() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
@@ -117,12 +127,7 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   std::optional<explore::VisualSonar> sonar;
   cv::Mat sonar_image;
   if (options.visual_sonar) {
-    // Only the rows from a little above the horizon down are used: the frame is cropped there
-    // (same intrinsics, principal point moved), which saves rendering the ceiling.
-    CameraModel sonar_camera = world.camera.Model().Scaled(options.sonar_width, options.sonar_height);
-    const int crop_top = std::clamp(static_cast<int>(std::floor(sonar_camera.HorizonRow())) - 4, 0, sonar_camera.height / 2);
-    sonar_camera.height -= crop_top;
-    sonar_camera.cy -= crop_top;
+    const CameraModel sonar_camera = BelowHorizon(world.camera.Model().Scaled(options.sonar_width, options.sonar_height));
     sim::RenderOptions sr = render;
     sr.supersample = options.sonar_supersample;
     sr.seed = options.seed + 1000003u;
@@ -137,10 +142,7 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   std::optional<CameraModel> wall_camera;
   cv::Mat wall_image;
   if (options.explorer.wall_line_axis_gain > 0.0) {
-    CameraModel wc = world.camera.Model().Scaled(options.wall_lines_width, options.wall_lines_height);
-    const int crop_top = std::clamp(static_cast<int>(std::floor(wc.HorizonRow())) - 4, 0, wc.height / 2);
-    wc.height -= crop_top;
-    wc.cy -= crop_top;
+    const CameraModel wc = BelowHorizon(world.camera.Model().Scaled(options.wall_lines_width, options.wall_lines_height));
     sim::RenderOptions wr = render;
     wr.supersample = options.wall_lines_supersample;
     wr.seed = options.seed + 3000003u;

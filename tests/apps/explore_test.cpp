@@ -27,6 +27,14 @@ std::filesystem::path TempDir(const std::string& name) {
   return dir;
 }
 
+// `squint explore ARGS --out OUT` must succeed; its summary.json.
+nlohmann::json ExploreSummary(const std::filesystem::path& out, const std::string& args) {
+  const CliResult r = RunSquint("explore " + args + " --out " + out.string());
+  EXPECT_EQ(r.code, 0) << r.all();
+  std::ifstream js(out / "summary.json");
+  return nlohmann::json::parse(js);
+}
+
 TEST(ExploreCli, ShortRunWritesTheThreeOutputs) {
   const auto out = TempDir("short");
   const CliResult r = RunSquint("explore --world corridor-0 --minutes 0.5 --seed 2 --out " + out.string());
@@ -145,12 +153,7 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
 TEST(ExploreCli, OwnRangeClearingKeepsTheChairLegsRemembered) {
   const auto dir = TempDir("own");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    const auto out = dir / name;
-    const CliResult r =
-        RunSquint("explore --world obstacle-course --seed 12 --eval-start 1 --minutes 0.25 --out " + out.string() + flag);
-    EXPECT_EQ(r.code, 0) << r.all();
-    std::ifstream js(out / "summary.json");
-    return nlohmann::json::parse(js);
+    return ExploreSummary(dir / name, "--world obstacle-course --seed 12 --eval-start 1 --minutes 0.25" + flag);
   };
   // Without it: the first contact is the chair (the world file's obstacles[3]), within 5 s, with
   // the robot's centre within its reach (the seat spans 8.275-8.725 x -1.425 to -0.975 m).
@@ -174,11 +177,7 @@ TEST(ExploreCli, OwnRangeClearingKeepsTheChairLegsRemembered) {
 TEST(ExploreCli, WallLinesHoldTheAxisWhereTheWallsHaveTheFloorsGrey) {
   const auto dir = TempDir("wall-lines");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    const auto out = dir / name;
-    const CliResult r = RunSquint("explore --world corridor-2 --seed 2 --eval-start 4 --minutes 2.1 --out " + out.string() + flag);
-    EXPECT_EQ(r.code, 0) << r.all();
-    std::ifstream js(out / "summary.json");
-    return nlohmann::json::parse(js);
+    return ExploreSummary(dir / name, "--world corridor-2 --seed 2 --eval-start 4 --minutes 2.1" + flag);
   };
   const nlohmann::json off = summary("off", "");
   EXPECT_GT(off["collisions"].get<long>(), 0);
