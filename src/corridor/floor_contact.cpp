@@ -69,14 +69,13 @@ bool FloorContact::LinedAbove(const PixelView& frame, int u, double edge_row) co
 
 std::optional<double> FloorContact::EdgeRow(double min_step) const {
   const int h = camera_.height;
-  // d(v) = |p(v + 1) - p(v)|: the edge between rows v and v + 1.
-  auto step = [&](int v) { return Step(v); };
+  // Step(v) = |p(v + 1) - p(v)|: the edge between rows v and v + 1.
   // The signed change p(v + 1) - p(v) times `sign`.
   auto signed_step = [&](int v, double sign) {
     return sign * (profile_[static_cast<std::size_t>(v + 1)] - profile_[static_cast<std::size_t>(v)]);
   };
   for (int v = top_row_ + 1; v < h - 2; ++v) {
-    if (step(v) < min_step) continue;
+    if (Step(v) < min_step) continue;
     int best = v;
     if (options_.refine_same_sign) {
       // Only changes of the first one's sign, up to the first of the other sign (the far side of
@@ -84,7 +83,7 @@ std::optional<double> FloorContact::EdgeRow(double min_step) const {
       const double sign = signed_step(v, 1.0) > 0.0 ? 1.0 : -1.0;
       for (int j = v + 1; j < std::min(v + 3, h - 2); ++j) {
         if (!(signed_step(j, sign) > 0.0)) break;
-        if (step(j) > step(best)) best = j;
+        if (Step(j) > Step(best)) best = j;
       }
       double off = 0.0;
       if (best > top_row_ && best + 1 < h - 1) {
@@ -96,10 +95,10 @@ std::optional<double> FloorContact::EdgeRow(double min_step) const {
       return best + 0.5 + off;
     }
     for (int j = v + 1; j < std::min(v + 3, h - 2); ++j)
-      if (step(j) > step(best)) best = j;
+      if (Step(j) > Step(best)) best = j;
     double off = 0.0;
     if (best > top_row_ && best + 1 < h - 1) {
-      const double a = step(best - 1), b = step(best), c = step(best + 1);
+      const double a = Step(best - 1), b = Step(best), c = Step(best + 1);
       const double den = a - 2.0 * b + c;
       if (den != 0.0) off = std::clamp(0.5 * (a - c) / den, -0.5, 0.5);
     }
@@ -152,14 +151,12 @@ double FloorMotionCheck::FloorRow(double dist_m) const {
 
 bool FloorMotionCheck::Update(double travel_m, std::optional<double> reading) {
   constexpr int kCap = kMaxFloorMotionReadings;
-  if (reading) {
-    head_ = (head_ + 1) % kCap;
-    travel_[static_cast<std::size_t>(head_)] = travel_m;
-    reading_[static_cast<std::size_t>(head_)] = *reading;
-    row_[static_cast<std::size_t>(head_)] = FloorRow(*reading);
-    count_ = std::min(count_ + 1, kCap);
-  }
   if (!reading) return false;
+  head_ = (head_ + 1) % kCap;
+  travel_[static_cast<std::size_t>(head_)] = travel_m;
+  reading_[static_cast<std::size_t>(head_)] = *reading;
+  row_[static_cast<std::size_t>(head_)] = FloorRow(*reading);
+  count_ = std::min(count_ + 1, kCap);
   // The readings within the window, newest first.
   int n = 0;
   double oldest_travel = travel_m;

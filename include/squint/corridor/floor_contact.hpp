@@ -18,7 +18,7 @@ namespace squint::corridor {
 // rows of their median. An end wall's foot across the centre columns (±2°) is one row to within
 // a fraction of a row even at a 10° heading (its depth changes by tan 10° · 4° ≈ 1 %); an edge
 // found again on a brick wall is a course or a joint that differs from column to column
-// (docs/calibration.md, session 16).
+// (docs/calibration.md, session 15b).
 inline constexpr double kLinedWallRowSpread = 1.0;
 
 class FloorContact {

@@ -188,7 +188,7 @@ struct FloorContactOptions {
   // drive-3-02*), so the agreement rejected a right floor contact there (docs/calibration.md,
   // session 14). A window over which the floor point E − t crosses no more than motion_tol_rows
   // fails: an edge fixed in the image would pass it too (far away a row spans metres; a brick
-  // course at the camera's height reads 15–20 m frame after frame; session 16).
+  // course at the camera's height reads 15–20 m frame after frame; session 15b).
   double motion_window_m = 0.0;
   double motion_tol_rows = 0.5;
   double motion_min_fraction = 0.8;
@@ -215,7 +215,7 @@ struct FloorContactOptions {
   // first edge, where the floor's own edges and reflections below a faint foot can be stronger
   // (drive-3-00*; docs/calibration.md, session 15). Where a column was searched again, the frame
   // reads only if its columns' edges lie on one line (kLinedWallRowSpread, floor_contact.hpp): a
-  // course found again near a brick wall differs from column to column (session 16).
+  // course found again near a brick wall differs from column to column (session 15b).
   double lined_wall_rel_step = 0.0;
   std::string Validate() const;
 };
