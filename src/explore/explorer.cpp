@@ -15,6 +15,12 @@
 namespace squint::explore {
 namespace {
 
+// Whether a cue with this axis gain (0: off) moved the axis at since_s (negative: never) no more
+// than hold_s before stamp_s: the glance's inliers then leave the axis to it.
+bool SteeredWithin(double gain, double since_s, double stamp_s, double hold_s) {
+  return gain > 0.0 && since_s >= 0.0 && stamp_s - since_s <= hold_s;
+}
+
 // printf-style formatting into a std::string (events only, never per frame in steady state).
 std::string Format(const char* fmt, ...) {
   char buf[256];
@@ -603,7 +609,6 @@ void Explorer::StartFollow(const Percept&) {
 
 void Explorer::UpdateAxis(const Percept& p) {
   if (!p.processed || !p.heading_deg) return;
-
   const double measured_axis = p.odom_T_robot.yaw - DegToRad(*p.heading_deg);
   const double innovation = WrapPi(measured_axis - axis_yaw_odom_);
   if (std::abs(innovation) > DegToRad(opt_.axis_outlier_deg)) {
@@ -645,7 +650,7 @@ void Explorer::UpdateAxis(const Percept& p) {
   // While the walls' lines steer the axis, the glance's inliers do not.
   if (WallLinesHold(p.stamp_s)) return;
   // While the lights' line steers the axis (light_axis_gain), the glance's inliers do not.
-  if (opt_.light_axis_gain > 0.0 && light_axis_s_ >= 0.0 && p.stamp_s - light_axis_s_ <= opt_.light_hold_s) return;
+  if (SteeredWithin(opt_.light_axis_gain, light_axis_s_, p.stamp_s, opt_.light_hold_s)) return;
   // With the heading filter, an inlier moves the axis toward the filtered heading's axis.
   double gain = opt_.axis_gain;
   double step = innovation;
@@ -738,7 +743,7 @@ bool Explorer::LightLateral(double stamp_s, const Pose2& odom_T_robot, double* l
 }
 
 bool Explorer::WallLinesHold(double stamp_s) const {
-  return opt_.wall_line_axis_gain > 0.0 && wall_line_axis_s_ >= 0.0 && stamp_s - wall_line_axis_s_ <= opt_.wall_line_hold_s;
+  return SteeredWithin(opt_.wall_line_axis_gain, wall_line_axis_s_, stamp_s, opt_.wall_line_hold_s);
 }
 
 void Explorer::UpdateWallLines(const Percept& p) {
@@ -757,9 +762,9 @@ void Explorer::UpdateWallLines(const Percept& p) {
   for (const WallLineReading& r : wall_line_readings_) d.push_back(WrapPi(r.axis_rad - wall_line_readings_.back().axis_rad));
   std::sort(d.begin(), d.end());
   if (d.back() - d.front() > DegToRad(opt_.wall_line_agree_deg)) return;
-  const double target = WrapPi(wall_line_readings_.back().axis_rad + d[d.size() / 2]);
-  if (std::abs(WrapPi(target - axis_yaw_odom_)) < DegToRad(opt_.wall_line_min_diff_deg)) return;
-  RotateAxis(opt_.wall_line_axis_gain * WrapPi(target - axis_yaw_odom_));
+  const double to_target = WrapPi(wall_line_readings_.back().axis_rad + d[d.size() / 2] - axis_yaw_odom_);
+  if (std::abs(to_target) < DegToRad(opt_.wall_line_min_diff_deg)) return;
+  RotateAxis(opt_.wall_line_axis_gain * to_target);
   wall_line_axis_s_ = p.stamp_s;
 }
 
@@ -836,8 +841,7 @@ Command Explorer::FollowStep(const Percept& p) {
     Emit(ExploreEvent::Kind::kEndDetected, p, 0,
          Format("end: fused distance %.2f m, entropy %.2f of reference %.2f, sonar free %.2f m (%s)", dist_end_m_,
                 p.glance_entropy_nats.value_or(-1.0), last_ref_entropy_, axis_free, end_by_sonar ? "sonar" : "entropy/distance"));
-    StartProbe();
-    probe_at_end_ = true;
+    StartProbe(/*at_end=*/true);
     return {};
   }
   // Side branches passed along the corridor (with the sonar): stop at a new one and probe.
@@ -1074,8 +1078,8 @@ bool Explorer::OnOpening(const Percept& p, int side, double width_m) {
   return true;
 }
 
-void Explorer::StartProbe() {
-  probe_at_end_ = false;
+void Explorer::StartProbe(bool at_end) {
+  probe_at_end_ = at_end;
   // A dead end judged on an earlier visit: look at its sides again (at most
   // reprobe_dead_end_visits times per node).
   if (node_ >= 0) {

@@ -404,7 +404,7 @@ class Explorer {
   bool MouthCentre(const Percept& p, int side, double* along_m) const;
   // Before a turn into a side branch: back to the axis, then along it to the mouth's centre.
   Command ShiftStep(const Percept& p);
-  void StartProbe();
+  void StartProbe(bool at_end = false);  // at_end: started by the end of a corridor (end_probe_memory)
   double ReferenceEntropy() const;
   // The remembered walls' axis modulo 90 degrees (odometry frame), when axis_from_walls is on and
   // the memory holds enough of them.
@@ -476,7 +476,7 @@ class Explorer {
   double wall_line_axis_s_ = -1.0;
   void UpdateWallLines(const Percept& p);
   bool WallLinesHold(double stamp_s) const;
-  bool probe_at_end_ = false;  // the probe under way was started by the end of a corridor
+  bool probe_at_end_ = false;  // the probe under way was started by the end of a corridor (StartProbe)
   void UpdateLight(const Percept& p);
 
   // Follow.
