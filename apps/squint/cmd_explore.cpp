@@ -64,6 +64,9 @@ struct ExplorerVariants {
   // At the end of a corridor a side open by entropy is open where the remembered points leave it
   // free, whatever the latest scan's blocked-near columns say (ExplorerOptions::end_probe_memory; off).
   bool end_probe_memory = false;
+  // With the walls' lines: where they show the corridor free this far, a sonar end is not taken
+  // and a probed side is open (ExplorerOptions::wall_line_free_m; 0: off).
+  double wall_line_free_m = 0.0;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -78,6 +81,7 @@ struct ExplorerVariants {
     ro.explorer.memory.clear_own_within_m = own_range_clearing ? 1.2 : 0.0;
     ro.explorer.wall_line_axis_gain = wall_lines ? 0.2 : 0.0;
     ro.explorer.end_probe_memory = end_probe_memory;
+    ro.explorer.wall_line_free_m = wall_line_free_m;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -110,6 +114,10 @@ struct ExplorerVariants {
                   text("The walls' base lines, where the floor's texture ends in a 128x96 frame every 3rd frame, steer the corridor axis while following; measured with --end-probe-memory (off by default; docs/explore.md, session 15)"));
     cmd->add_flag("--end-probe-memory,!--no-end-probe-memory", end_probe_memory,
                   text("At the end of a corridor a side open by the entropy rule is open where the remembered points leave it free, whatever the latest sonar scan's blocked-near columns say (off by default; docs/explore.md, session 15)"));
+    cmd->add_option("--wall-line-free", wall_line_free_m,
+                    text("With --wall-lines: where the walls' lines show a corridor free this far ahead (metres), an end read by the visual sonar alone is not taken and a probed side is open (0: off; docs/explore.md, session 16)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 8.0));
   }
 };
 

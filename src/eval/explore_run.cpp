@@ -10,6 +10,8 @@
 #include <random>
 #include <vector>
 
+#include <opencv2/imgproc.hpp>
+
 #include "squint/core/angles.hpp"
 #include "squint/core/error.hpp"
 #include "squint/corridor/perceiver.hpp"
@@ -140,13 +142,22 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   // sonar's (rows from a little above the horizon down).
   std::optional<sim::Renderer> wall_renderer;
   std::optional<CameraModel> wall_camera;
-  cv::Mat wall_image;
+  cv::Mat wall_image, wall_fine;
   if (options.explorer.wall_line_axis_gain > 0.0) {
     const CameraModel wc = BelowHorizon(world.camera.Model().Scaled(options.wall_lines_width, options.wall_lines_height));
     sim::RenderOptions wr = render;
-    wr.supersample = options.wall_lines_supersample;
     wr.seed = options.seed + 3000003u;
-    wall_renderer.emplace(world, wc, wr);
+    const int n = options.wall_lines_supersample;
+    if (options.wall_lines_binned && n > 1) {
+      // The camera's image downsampled: n × n pixels, each with its own sensor noise, per pixel.
+      const CameraModel fine = wc.Scaled(n * wc.width, n * wc.height);
+      wr.supersample = 1;
+      wall_renderer.emplace(world, fine, wr);
+      wall_fine.create(fine.height, fine.width, CV_8UC1);
+    } else {
+      wr.supersample = n;
+      wall_renderer.emplace(world, wc, wr);
+    }
     wall_camera = wc;
     wall_image.create(wc.height, wc.width, CV_8UC1);
   }
@@ -247,13 +258,23 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
       }
     }
     p.glance_entropy_nats = r.entropy;
-    if (wall_renderer && explorer.State() == explore::ExploreState::kFollow && f % options.wall_lines_every == 0) {
+    if (wall_renderer && (explorer.State() == explore::ExploreState::kFollow || explorer.State() == explore::ExploreState::kProbe) &&
+        f % options.wall_lines_every == 0) {
       MutableGrayView wv{wall_image.data, wall_image.cols, wall_image.rows, static_cast<std::ptrdiff_t>(wall_image.step)};
-      wall_renderer->Render(world_T_robot, wv, nullptr, 0, nullptr, 0, static_cast<std::uint64_t>(f));
-      const double cpu4 = ThreadCpuSeconds();
+      double cpu4 = 0.0;
+      if (!wall_fine.empty()) {
+        MutableGrayView fv{wall_fine.data, wall_fine.cols, wall_fine.rows, static_cast<std::ptrdiff_t>(wall_fine.step)};
+        wall_renderer->Render(world_T_robot, fv, nullptr, 0, nullptr, 0, static_cast<std::uint64_t>(f));
+        cpu4 = ThreadCpuSeconds();  // the downsampling is the robot's own work
+        cv::resize(wall_fine, wall_image, wall_image.size(), 0.0, 0.0, cv::INTER_AREA);
+      } else {
+        wall_renderer->Render(world_T_robot, wv, nullptr, 0, nullptr, 0, static_cast<std::uint64_t>(f));
+        cpu4 = ThreadCpuSeconds();
+      }
       const explore::WallLines wl = explore::FindWallLines(wv, *wall_camera, options.wall_lines);
       perception_cpu += ThreadCpuSeconds() - cpu4;
       if (wl.valid) p.wall_line_heading_deg = wl.HeadingDeg();
+      p.wall_line_corridor_ahead_m = wl.valid ? wl.corridor_ahead_m : 0.0;
     }
     if (sonar && f % options.sonar_every == 0) {
       MutableGrayView sv{sonar_image.data, sonar_image.cols, sonar_image.rows, static_cast<std::ptrdiff_t>(sonar_image.step)};

@@ -37,6 +37,10 @@ bool NonNegative(double x) { return std::isfinite(x) && x >= 0.0; }
 // Entropy samples of the corridor being followed before they make its reference (until then the
 // reference is carried over from the corridor before or the start-up scan).
 constexpr int kOwnReferenceSamples = 8;
+// The walls' lines' view of the corridor ahead counts against a sonar end this long (their frame
+// comes every third frame while following or probing), taken facing within this of the direction.
+constexpr double kWallLineAheadHoldS = 0.25;
+constexpr double kWallLineAheadYawDeg = 20.0;
 
 }  // namespace
 
@@ -137,6 +141,7 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(wall_line_agree_deg)) return "wall_line_agree_deg must be >= 0";
   if (!Positive(wall_line_hold_s)) return "wall_line_hold_s must be positive";
   if (!NonNegative(wall_line_min_diff_deg)) return "wall_line_min_diff_deg must be >= 0";
+  if (!NonNegative(wall_line_free_m)) return "wall_line_free_m must be >= 0";
   if (!NonNegative(mouth_centre_min_m)) return "mouth_centre_min_m must be >= 0";
   if (!(mouth_centre_max_m >= mouth_centre_min_m && std::isfinite(mouth_centre_max_m)))
     return "mouth_centre_max_m must be >= mouth_centre_min_m";
@@ -205,6 +210,7 @@ Command Explorer::Step(const Percept& p) {
   }
   UpdateMapPose(p);
   UpdateSonar(p);
+  NoteWallLinesAhead(p);
   Command cmd;
   switch (state_) {
     case ExploreState::kScan: cmd = ScanStep(p); break;
@@ -768,6 +774,22 @@ void Explorer::UpdateWallLines(const Percept& p) {
   wall_line_axis_s_ = p.stamp_s;
 }
 
+void Explorer::NoteWallLinesAhead(const Percept& p) {
+  if (!p.wall_line_corridor_ahead_m) return;  // no frame for the lines this step
+  wall_line_ahead_m_ = 0.0;
+  wall_line_ahead_s_ = p.stamp_s;
+  wall_line_ahead_yaw_ = p.odom_T_robot.yaw;
+  if (!p.wall_line_heading_deg) return;
+  const double raw = WrapPi(p.odom_T_robot.yaw - DegToRad(*p.wall_line_heading_deg));
+  if (std::abs(std::remainder(raw - axis_yaw_odom_, kPi / 2)) <= DegToRad(opt_.wall_line_gate_deg))
+    wall_line_ahead_m_ = *p.wall_line_corridor_ahead_m;
+}
+
+bool Explorer::WallLinesFree(const Percept& p, double yaw) const {
+  return opt_.wall_line_free_m > 0.0 && p.stamp_s - wall_line_ahead_s_ <= kWallLineAheadHoldS &&
+         std::abs(WrapPi(wall_line_ahead_yaw_ - yaw)) <= DegToRad(kWallLineAheadYawDeg) && wall_line_ahead_m_ >= opt_.wall_line_free_m;
+}
+
 Command Explorer::FollowStep(const Percept& p) {
   UpdateWallLines(p);
   UpdateAxis(p);
@@ -823,6 +845,10 @@ Command Explorer::FollowStep(const Percept& p) {
     if (axis_free < opt_.sonar_end_free_m && may_end) {
       BestGap(p, axis_yaw_odom_, &gap_free);
       if (gap_free < opt_.sonar_end_gap_m) end_now = end_by_sonar = true;
+      // The walls' lines show the corridor going on: the sonar's "blocked near" is the floor's grey.
+      if (end_by_sonar && WallLinesFree(p, axis_yaw_odom_)) {
+        end_now = end_by_sonar = false;
+      }
     }
   }
   // (b) the glance entropy against the corridor's reference (with the sonar: only where the
@@ -1171,7 +1197,10 @@ Command Explorer::ProbeStep(const Percept& p) {
   const bool open_by_memory = opt_.end_probe_memory && probe_at_end_ && sonar_seen_ && open_by_entropy &&
                               memory_.FreeTravel(p.odom_T_robot, rot_.target_yaw, opt_.robot_radius_m + opt_.safety_margin_m,
                                                  opt_.lookahead_m + 1.0, false, true) >= opt_.sonar_open_free_m;
-  const bool open = sonar_seen_ ? open_by_sonar || open_by_memory ||
+  // Where the floor has the walls' grey: the walls' lines show the side's corridor free.
+  const bool open_by_lines = sonar_seen_ && WallLinesFree(p, rot_.target_yaw) &&
+                             h >= opt_.sonar_open_min_entropy_ratio * last_ref_entropy_;
+  const bool open = sonar_seen_ ? open_by_sonar || open_by_memory || open_by_lines ||
                                       ((side_dir == gap_side_dir_ || side_dir == gap_other_dir_) && open_by_entropy)
                                 : open_by_entropy;
   map_.SetBranch(node_, side_dir, open ? Branch::kOpen : Branch::kWall);

@@ -28,6 +28,7 @@ std::string WallLineOptions::Validate() const {
   if (samples < 1 || samples > 100000) return "wall lines: samples must be in [1, 100000]";
   if (min_inliers < 3) return "wall lines: min_inliers must be at least 3";
   if (min_rows < 1) return "wall lines: min_rows must be at least 1";
+  if (foot_points < 1 || foot_points > 10000) return "wall lines: foot_points must be in [1, 10000]";
   if (!(min_span_m >= 0.0) || !std::isfinite(min_span_m)) return "wall lines: min_span_m must be non-negative";
   return {};
 }
@@ -250,6 +251,26 @@ WallLines FindWallLines(const GrayView& image, const CameraModel& camera, const 
   out.offset_m = left.dot(origin);
   out.parallel_offset_m = pinl > 0 ? out.offset_m + sign * par_mean : 0.0;
   out.rms_m = std::sqrt(ss / (inl + pinl));
+  // The corridor ahead: both walls' lines with the robot between them; a foot between them (an end
+  // wall's or an obstacle's: at least foot_points points on neither line) ends it, else the range
+  // used. Fewer stray points are a textured floor's own edges (tile joints, a carpet's blotches).
+  if (pinl > 0 && out.offset_m * out.parallel_offset_m < 0.0) {
+    const double lo_off = std::min(out.offset_m, out.parallel_offset_m) + o.inlier_m;
+    const double hi_off = std::max(out.offset_m, out.parallel_offset_m) - o.inlier_m;
+    std::vector<double> between;
+    for (int k = 0; k < n; ++k) {
+      const double x = r[static_cast<std::size_t>(k)];
+      const Eigen::Vector2d& q = pts[static_cast<std::size_t>(k)];
+      const double along = d.dot(q), across = left.dot(q);
+      if (std::abs(x) >= o.inlier_m && std::abs(x - par_centre) >= o.inlier_m && along > 0.0 && across > lo_off && across < hi_off)
+        between.push_back(along);
+    }
+    out.corridor_ahead_m = o.max_range_m;
+    if (static_cast<int>(between.size()) >= o.foot_points) {
+      std::nth_element(between.begin(), between.begin() + (o.foot_points - 1), between.end());
+      out.corridor_ahead_m = between[static_cast<std::size_t>(o.foot_points - 1)];
+    }
+  }
   return out;
 }
 

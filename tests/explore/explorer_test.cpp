@@ -336,6 +336,9 @@ struct ToyPlan {
   int frame = 0;
   std::vector<SonarColumn> scan;
   bool blind_floor = false;  // a floor without contrast to the walls: every sonar column reads blocked near
+  // The walls' lines with each scan: the heading off the axis, and the corridor free ahead up to
+  // the first wall (floor edges do not end the floor's texture), at most 8 m.
+  bool wall_lines = false;
   static constexpr double kBlind = 1.2;
 
   // Distance along a ray to the first wall (a large number when none); that wall in *hit.
@@ -399,6 +402,10 @@ struct ToyPlan {
       }
       p.sonar = &scan;
       p.sonar_near_blind_m = kBlind;
+      if (wall_lines) {
+        p.wall_line_heading_deg = heading_deg;
+        p.wall_line_corridor_ahead_m = std::min(8.0, Ray(pose.x, pose.y, pose.yaw));
+      }
     }
     return p;
   }
@@ -567,6 +574,28 @@ TEST(Explorer, SideFreeBySonarButAWallByEntropyIsAWall) {
   }
 }
 
+// An L corner (MouthCentringMovesToTheBranchCentreBeforeTurning's) whose branch floor, from 0.6 m
+// into the branch, has the walls' grey: the sonar reads that floor edge as a wall 1.6 m from the
+// robot, and the branch is called a wall (a dead end: the robot turns around). The walls' lines
+// show the branch free up to its end wall: with wall_line_free_m the side is open and the robot
+// turns into it.
+TEST(Explorer, WallLinesShowingASideFreeOpenItAtAProbe) {
+  for (const double free_m : {0.0, 2.5}) {
+    SCOPED_TRACE(free_m);
+    ToyPlan world;
+    world.walls = {{-1, -1, 25, -1}, {-1, 1, 21.4, 1}, {-1, -1, -1, 1},       {25, -1, 25, 12},
+                   {21.4, 1, 21.4, 12}, {21.4, 12, 25, 12}, {21.4, 1.6, 25, 1.6, true, true}};
+    world.pose = {1.0, 0.0, 0.0};
+    world.wall_lines = true;
+    ExplorerOptions o;
+    o.wall_line_free_m = free_m;
+    Explorer explorer(o);
+    for (int i = 0; i < 30 * 90 && explorer.Turns() == 0; ++i) world.Apply(explorer.Step(world.Perceive()));
+    ASSERT_EQ(explorer.Turns(), 1);
+    EXPECT_EQ(explorer.Events().back().turn_deg, free_m > 0.0 ? 90 : 180);
+  }
+}
+
 // Without the side-branch detector (the paper's behaviour) the same T is passed: the robot only
 // decides at the corridor's end, and its first turn there is around (a dead end at x = 25).
 TEST(Explorer, WithoutBranchDetectionTheSideBranchIsPassed) {
@@ -629,6 +658,7 @@ struct ScriptedSonar {
   int frame = 0;
   double entropy = kOpenEntropy;
   double wall_lines = 0.0;  // Percept::sonar_wall_lines of each scan
+  double corridor_ahead_m = -1.0;  // >= 0: with each scan, the walls' lines (on the axis) and this corridor ahead
   std::vector<SonarColumn> scan;
   std::function<SonarReturn(double bearing_rad)> column = [](double) { return SonarReturn::kFar; };
   double boundary_m = 0.0;  // range of kBoundary columns
@@ -656,6 +686,10 @@ struct ScriptedSonar {
       p.sonar = &scan;
       p.sonar_near_blind_m = 1.2;
       p.sonar_wall_lines = wall_lines;
+      if (corridor_ahead_m >= 0.0) {
+        p.wall_line_heading_deg = p.heading_deg;
+        p.wall_line_corridor_ahead_m = corridor_ahead_m;
+      }
     }
     const Command c = e.Step(p);
     if (apply) {
@@ -676,6 +710,42 @@ struct ScriptedSonar {
     return false;
   }
 };
+
+// From x = 3 on, the sonar's central columns read blocked near and the rest far (a floor of the
+// walls' grey ahead, in part of the view: not a blind view). That is an end by the sonar, unless
+// the walls' lines show the corridor free ahead: with wall_line_free_m 2.5 and 8 m of corridor
+// shown no end is taken; with only 2 m shown, or the option off, it is.
+TEST(Explorer, WallLinesShowingTheCorridorFreeOverruleASonarEnd) {
+  struct Case {
+    double free_m, ahead_m;
+    int ends;
+  };
+  for (const Case k : {Case{0.0, 8.0, 1}, Case{2.5, 8.0, 0}, Case{2.5, 2.0, 1}}) {
+    SCOPED_TRACE(testing::Message() << k.free_m << " " << k.ahead_m);
+    ExplorerOptions o;
+    o.wall_line_free_m = k.free_m;
+    Explorer e(o);
+    ScriptedSonar s;
+    s.corridor_ahead_m = k.ahead_m;
+    s.shape = [](const Pose2& pose, SonarColumn& c) {
+      const double b = std::abs(c.bearing_rad);
+      if (pose.x > 3.0 && b < DegToRad(20.0)) {
+        c.kind = SonarReturn::kBlockedNear;
+        c.range_m = 0.0;
+      } else if (b > DegToRad(5.0) && 1.0 / std::sin(b) < 6.0) {  // side walls 1 m away
+        c.kind = SonarReturn::kBoundary;
+        c.range_m = 1.0 / std::sin(b);
+      } else {
+        c.kind = SonarReturn::kFar;
+        c.range_m = 6.0;
+      }
+    };
+    ASSERT_TRUE(s.UntilFollowing(e));
+    for (int i = 0; i < 30 * 15 && e.EndsDetected() == 0; ++i) s.Step(e);
+    EXPECT_EQ(e.EndsDetected(), k.ends);
+    EXPECT_GT(s.pose.x, 3.0);
+  }
+}
 
 // Blocked-near columns after driving straight are mostly floor without a visible step: where the
 // floor there was seen from farther back the guard lets the robot drive on, unless the latest scan's frame shows wall lines (a brick wall ahead:

@@ -29,9 +29,9 @@ CameraModel Camera128() {
 // wall `left_m` and the right wall `right_m` from the robot (distances along the walls' normal).
 // The floor between them carries a speckle of 4 cm cells (or, without `textured_floor`, the
 // walls' own grey); the walls are a smooth grey with a gentle vertical shading; the ceiling and
-// what lies beyond max_floor_m are plain.
+// what lies beyond max_floor_m (or, along the walls, beyond end_along_m: an end wall) are plain.
 std::vector<std::uint8_t> Draw(const CameraModel& cam, double direction_deg, double left_m, double right_m,
-                               double max_floor_m = 30.0, bool textured_floor = true) {
+                               double max_floor_m = 30.0, bool textured_floor = true, double end_along_m = 1e9) {
   std::vector<std::uint8_t> img(static_cast<std::size_t>(cam.width * cam.height));
   const double t = DegToRad(direction_deg);
   const Eigen::Vector2d along(std::cos(t), std::sin(t)), normal(-std::sin(t), std::cos(t));
@@ -40,7 +40,7 @@ std::vector<std::uint8_t> Draw(const CameraModel& cam, double direction_deg, dou
       std::uint8_t g = static_cast<std::uint8_t>(120 + v / 8);  // wall (or ceiling)
       if (const auto p = cam.FloorPoint({static_cast<double>(u), static_cast<double>(v)})) {
         const double across = normal.dot(*p);
-        if (across < left_m && across > -right_m && p->norm() < max_floor_m) {
+        if (across < left_m && across > -right_m && p->norm() < max_floor_m && along.dot(*p) < end_along_m) {
           if (textured_floor) {
             const auto a = static_cast<std::int64_t>(std::floor(along.dot(*p) / 0.04));
             const auto b = static_cast<std::int64_t>(std::floor(across / 0.04));
@@ -84,6 +84,31 @@ TEST(WallLines, TwoWallsGiveTheirDirectionAndOffsets) {
     EXPECT_LT(w.rms_m, 0.05);
     EXPECT_EQ(static_cast<int>(pts.size()), w.points);
   }
+}
+
+TEST(WallLines, CorridorAheadEndsAtAFootAcrossIt) {
+  const CameraModel cam = Camera128();
+  const WallLineOptions o;
+  // Both walls in view, the floor's texture on to the range used: the corridor is free that far.
+  const WallLines open = FindWallLines(View(cam, Draw(cam, 3.0, 1.0, 1.1)), cam);
+  ASSERT_TRUE(open.valid);
+  ASSERT_GT(open.parallel_inliers, 0);
+  EXPECT_EQ(open.corridor_ahead_m, o.max_range_m);
+  // A smooth end wall across the corridor: free to its foot, or about an image row short of it
+  // (the nearest points of a foot seen slightly askew; measured 3.28, 3.63, 4.76 and 5.49 m),
+  // never beyond it.
+  for (const double end_m : {3.5, 4.0, 5.0, 6.0}) {
+    const WallLines w = FindWallLines(View(cam, Draw(cam, 3.0, 1.0, 1.1, 30.0, true, end_m)), cam);
+    ASSERT_TRUE(w.valid) << end_m;
+    ASSERT_GT(w.parallel_inliers, 0) << end_m;
+    EXPECT_LE(w.corridor_ahead_m, 1.01 * end_m) << end_m;
+    EXPECT_GE(w.corridor_ahead_m, 0.88 * end_m) << end_m;
+  }
+  // One wall only in view (the corridor turned well off the optical axis): no corridor is shown.
+  const WallLines one = FindWallLines(View(cam, Draw(cam, 25.0, 1.0, 1.1)), cam);
+  ASSERT_TRUE(one.valid);
+  EXPECT_EQ(one.parallel_inliers, 0);
+  EXPECT_EQ(one.corridor_ahead_m, 0.0);
 }
 
 TEST(WallLines, HeadingIsTakenModuloNinetyDegrees) {
@@ -146,6 +171,12 @@ TEST(WallLines, OptionsValidate) {
   o = {};
   o.min_inliers = 2;
   EXPECT_NE(o.Validate().find("min_inliers"), std::string::npos);
+  o = {};
+  o.inlier_m = 0.0;
+  EXPECT_NE(o.Validate().find("inlier_m"), std::string::npos);
+  o = {};
+  o.foot_points = 0;
+  EXPECT_NE(o.Validate().find("foot_points"), std::string::npos);
   o = {};
   o.inlier_m = 0.0;
   EXPECT_NE(o.Validate().find("inlier_m"), std::string::npos);

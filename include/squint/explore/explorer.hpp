@@ -212,6 +212,16 @@ struct ExplorerOptions {
   double wall_line_agree_deg = 3.0;
   double wall_line_hold_s = 1.0;
   double wall_line_min_diff_deg = 4.0;
+  // The walls' lines as free travel where the sonar sees no floor boundary. When the latest frame
+  // for them (within 0.25 s; taken while following or probing) shows both walls' lines with the
+  // robot between them, reading an axis within wall_line_gate_deg of the one held modulo 90°, and
+  // no foot across the corridor nearer than this (Percept::wall_line_corridor_ahead_m), then
+  // (a) an end read by the visual sonar alone is not taken, and (b) a probed side is open when its
+  // entropy passes sonar_open_min_entropy_ratio, as with the sonar's own free travel. Where the
+  // floor has the walls' grey the sonar reads "blocked near" in part of its columns: `default`'s
+  // carpeted middle corridor was read as an end 1.5 m into its mouth, and its mouth as a wall from
+  // the west corridor. 0 turns it off (the default; docs/explore.md, session 16).
+  double wall_line_free_m = 0.0;
   // At the end of a corridor (not at a side branch or a blockage), a side the entropy rule calls
   // open (open_entropy_ratio) is also open where the remembered points alone leave it free for
   // sonar_open_free_m, whatever the latest scan's blocked-near columns say. With an axis held
@@ -474,6 +484,11 @@ class Explorer {
   };
   std::vector<WallLineReading> wall_line_readings_;
   double wall_line_axis_s_ = -1.0;
+  double wall_line_ahead_m_ = 0.0;    // the latest Percept::wall_line_corridor_ahead_m accepted...
+  double wall_line_ahead_s_ = -1e9;   // ...its time...
+  double wall_line_ahead_yaw_ = 0.0;  // ...and the odometry yaw it was taken at
+  void NoteWallLinesAhead(const Percept& p);
+  bool WallLinesFree(const Percept& p, double yaw) const;
   void UpdateWallLines(const Percept& p);
   bool WallLinesHold(double stamp_s) const;
   bool probe_at_end_ = false;  // the probe under way was started by the end of a corridor (StartProbe)

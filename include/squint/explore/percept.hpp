@@ -45,6 +45,9 @@ struct Percept {
   // was taken and they were found: the robot's heading relative to them, modulo 90° in
   // [−45°, 45°) (degrees, left positive).
   std::optional<double> wall_line_heading_deg;
+  // ...and, when both walls' lines were found with the robot between them, how far ahead they
+  // show the corridor free (WallLines::corridor_ahead_m, metres).
+  std::optional<double> wall_line_corridor_ahead_m;
   // Whole-glance grey-level entropy (nats); the gate computes it on every frame, processed or not.
   std::optional<double> glance_entropy_nats;
   std::optional<ObstacleAdvice> obstacles;   // empty when the obstacle pipeline is off

@@ -45,6 +45,11 @@ struct WallLineOptions {
   int min_inliers = 10;            // points on the main line needed for a reading
   double min_span_m = 0.8;         // spread of the main line's points along it needed...
   int min_rows = 3;                // ...and the image rows they come from
+  // Points between the two lines on neither make a foot across the corridor (WallLines::
+  // corridor_ahead_m) only this many together: a textured floor's own edges (tile joints, a
+  // carpet's blotches) give up to about 13 within 2.5 m in `default`'s middle corridor, an end
+  // wall's foot one per column across it.
+  int foot_points = 16;
   std::string Validate() const;
 };
 
@@ -57,6 +62,11 @@ struct WallLines {
   double offset_m = 0.0;       // the main line's signed distance from the robot along its left normal
   double parallel_offset_m = 0.0;  // the parallel line's, when parallel_inliers > 0
   double rms_m = 0.0;          // RMS distance of the inliers (both lines) from the fit
+  // When both lines were found with the robot between them: how far ahead (along the lines'
+  // direction) a foot across the corridor between them stands (an end wall's or an obstacle's:
+  // the foot_points-th nearest point there on neither line), max_range_m if none; 0 otherwise.
+  // The floor's texture shows the corridor free that far, whatever its grey-level contrast.
+  double corridor_ahead_m = 0.0;
   // The robot's heading relative to the lines modulo 90°, in [−45°, 45°), left positive:
   // −direction (a Manhattan building's walls are parallel or perpendicular to the corridor's axis).
   double HeadingDeg() const;
