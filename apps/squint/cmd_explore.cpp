@@ -67,6 +67,8 @@ struct ExplorerVariants {
   // With the walls' lines: where they show the corridor free this far, a sonar end is not taken
   // and a probed side is open (ExplorerOptions::wall_line_free_m; 0: off).
   double wall_line_free_m = 0.0;
+  // A break in a side wall handled as an opening starts a new wall run (ExplorerOptions::rearm_after_gap; off).
+  bool rearm_after_gap = false;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -82,6 +84,7 @@ struct ExplorerVariants {
     ro.explorer.wall_line_axis_gain = wall_lines ? 0.2 : 0.0;
     ro.explorer.end_probe_memory = end_probe_memory;
     ro.explorer.wall_line_free_m = wall_line_free_m;
+    ro.explorer.rearm_after_gap = rearm_after_gap;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -118,6 +121,8 @@ struct ExplorerVariants {
                     text("With --wall-lines: where the walls' lines show a corridor free this far ahead (metres), an end read by the visual sonar alone is not taken and a probed side is open (0: off; docs/explore.md, session 16)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 8.0));
+    cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,
+                  text("A break in a side wall handled as an opening (a door recess rejected, a junction) starts a new wall run, however short it was, so the next side branch along that wall is still found (off by default; docs/explore.md, session 16)"));
   }
 };
 

@@ -37,9 +37,10 @@ bool NonNegative(double x) { return std::isfinite(x) && x >= 0.0; }
 // Entropy samples of the corridor being followed before they make its reference (until then the
 // reference is carried over from the corridor before or the start-up scan).
 constexpr int kOwnReferenceSamples = 8;
-// The walls' lines' view of the corridor ahead counts against a sonar end this long (their frame
-// comes every third frame while following or probing), taken facing within this of the direction.
-constexpr double kWallLineAheadHoldS = 0.25;
+// The walls' lines' views of the corridor ahead count this long (their frame comes every third
+// frame while following or probing: about five views, at least half of which must show it free;
+// a tiled floor's joints make single views scatter), taken facing within this of the direction.
+constexpr double kWallLineAheadHoldS = 0.5;
 constexpr double kWallLineAheadYawDeg = 20.0;
 
 }  // namespace
@@ -776,18 +777,24 @@ void Explorer::UpdateWallLines(const Percept& p) {
 
 void Explorer::NoteWallLinesAhead(const Percept& p) {
   if (!p.wall_line_corridor_ahead_m) return;  // no frame for the lines this step
-  wall_line_ahead_m_ = 0.0;
-  wall_line_ahead_s_ = p.stamp_s;
-  wall_line_ahead_yaw_ = p.odom_T_robot.yaw;
-  if (!p.wall_line_heading_deg) return;
-  const double raw = WrapPi(p.odom_T_robot.yaw - DegToRad(*p.wall_line_heading_deg));
-  if (std::abs(std::remainder(raw - axis_yaw_odom_, kPi / 2)) <= DegToRad(opt_.wall_line_gate_deg))
-    wall_line_ahead_m_ = *p.wall_line_corridor_ahead_m;
+  double ahead = 0.0;
+  if (p.wall_line_heading_deg) {
+    const double raw = WrapPi(p.odom_T_robot.yaw - DegToRad(*p.wall_line_heading_deg));
+    if (std::abs(std::remainder(raw - axis_yaw_odom_, kPi / 2)) <= DegToRad(opt_.wall_line_gate_deg)) ahead = *p.wall_line_corridor_ahead_m;
+  }
+  std::erase_if(wall_line_ahead_, [&](const WallLineAhead& r) { return p.stamp_s - r.stamp_s > kWallLineAheadHoldS; });
+  wall_line_ahead_.push_back({p.stamp_s, p.odom_T_robot.yaw, ahead});
 }
 
 bool Explorer::WallLinesFree(const Percept& p, double yaw) const {
-  return opt_.wall_line_free_m > 0.0 && p.stamp_s - wall_line_ahead_s_ <= kWallLineAheadHoldS &&
-         std::abs(WrapPi(wall_line_ahead_yaw_ - yaw)) <= DegToRad(kWallLineAheadYawDeg) && wall_line_ahead_m_ >= opt_.wall_line_free_m;
+  if (opt_.wall_line_free_m <= 0.0) return false;
+  int facing = 0, free = 0;
+  for (const WallLineAhead& r : wall_line_ahead_) {
+    if (p.stamp_s - r.stamp_s > kWallLineAheadHoldS || std::abs(WrapPi(r.yaw - yaw)) > DegToRad(kWallLineAheadYawDeg)) continue;
+    ++facing;
+    free += r.ahead_m >= opt_.wall_line_free_m ? 1 : 0;
+  }
+  return facing > 0 && 2 * free >= facing;
 }
 
 Command Explorer::FollowStep(const Percept& p) {
@@ -965,6 +972,13 @@ bool Explorer::ObstacleOverride(const Percept& p, Command* cmd) {
 
 // --- Side branches met while following ---------------------------------------------------------
 
+bool StartsNewWallRun(const SideTrack& track, double travel_m, const ExplorerOptions& options) {
+  // A gap already handled (a door recess rejected, or a junction) starts one however short it
+  // was, else the run it interrupted stays consumed until the wall's next long break.
+  return track.wall_first_m < 0.0 || travel_m - track.wall_last_m > options.branch_wall_gap_m ||
+         (options.rearm_after_gap && track.consumed);
+}
+
 bool Explorer::TrackSides(const Percept& p) {
   if (!opt_.detect_branches || !sonar_seen_ || p.sonar == nullptr) return false;
   double wall[2] = {-1.0, -1.0};
@@ -1008,7 +1022,7 @@ bool Explorer::TrackSides(const Percept& p) {
     SideTrack& tr = sides_[k];
     if (wall[k] > 0.0) {
       last_wall_m_[k] = wall[k];
-      if (tr.wall_first_m < 0.0 || t - tr.wall_last_m > opt_.branch_wall_gap_m) {
+      if (StartsNewWallRun(tr, t, opt_)) {
         // A new run of wall (after a gap, or the first): an opening must follow a full run.
         tr = SideTrack{};
         tr.wall_first_m = t;
