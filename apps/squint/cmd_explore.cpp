@@ -69,6 +69,8 @@ struct ExplorerVariants {
   double wall_line_free_m = 0.0;
   // A break in a side wall handled as an opening starts a new wall run (ExplorerOptions::rearm_after_gap; off).
   bool rearm_after_gap = false;
+  // The walls' lines' frame binned from one twice its size (ExploreRunOptions::wall_lines_binned; off).
+  bool wall_lines_binned = false;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -85,6 +87,7 @@ struct ExplorerVariants {
     ro.explorer.end_probe_memory = end_probe_memory;
     ro.explorer.wall_line_free_m = wall_line_free_m;
     ro.explorer.rearm_after_gap = rearm_after_gap;
+    ro.wall_lines_binned = wall_lines_binned;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -117,6 +120,8 @@ struct ExplorerVariants {
                   text("The walls' base lines, where the floor's texture ends in a 128x96 frame every 3rd frame, steer the corridor axis while following; measured with --end-probe-memory (off by default; docs/explore.md, session 15)"));
     cmd->add_flag("--end-probe-memory,!--no-end-probe-memory", end_probe_memory,
                   text("At the end of a corridor a side open by the entropy rule is open where the remembered points leave it free, whatever the latest sonar scan's blocked-near columns say (off by default; docs/explore.md, session 15)"));
+    cmd->add_flag("--wall-lines-binned,!--no-wall-lines-binned", wall_lines_binned,
+                  text("With --wall-lines: their frame is the camera's image downsampled (rendered at twice the size, one sample and the sensor's noise per pixel, averaged over 2x2 blocks), so the noise averages; at the loop's noise most frames then read (off by default; docs/explore.md, session 16)"));
     cmd->add_option("--wall-line-free", wall_line_free_m,
                     text("With --wall-lines: where the walls' lines show a corridor free this far ahead (metres), an end read by the visual sonar alone is not taken and a probed side is open (0: off; docs/explore.md, session 16)"))
         ->capture_default_str()

@@ -58,9 +58,10 @@ struct ExploreRunOptions {
   int wall_lines_supersample = 2;
   // The frame as the camera's image downsampled: rendered wall_lines_supersample times larger,
   // one sample per pixel each with the sensor's own noise, and averaged over each block (so its
-  // noise averages as a real downsampled image's does; session 16). False: rendered at its size
-  // with wall_lines_supersample² samples per pixel and the sensor's noise added per pixel.
-  bool wall_lines_binned = true;
+  // noise averages as a real downsampled image's does; session 16). False (the default, as session
+  // 15 measured the walls' lines): rendered at its size with wall_lines_supersample² samples per
+  // pixel and the sensor's noise added per pixel.
+  bool wall_lines_binned = false;
   explore::WallLineOptions wall_lines;
   // Obstacle pipeline (issue 6: IPT feature classification, outlines, contacts, polar map,
   // free-gap steering) on a camera frame of ipt_width × ipt_height rendered every ipt_every frames
