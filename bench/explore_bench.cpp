@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "squint/corridor/perceiver.hpp"
+#include "squint/eval/explore_run.hpp"
 #include "squint/explore/explorer.hpp"
 #include "squint/explore/obstacle_memory.hpp"
 #include "squint/explore/visual_sonar.hpp"
@@ -73,10 +74,7 @@ BENCHMARK(BM_ExplorerStep)->Name("explorer_step_us")->Unit(benchmark::kMicroseco
 
 void BM_VisualSonar(benchmark::State& state) {
   const sim::World world = sim::LoadWorld("default");
-  CameraModel cam = world.camera.Model().Scaled(64, 48);
-  const int crop = static_cast<int>(std::floor(cam.HorizonRow())) - 4;
-  cam.height -= crop;
-  cam.cy -= crop;
+  const CameraModel cam = eval::BelowHorizon(world.camera.Model().Scaled(64, 48));
   sim::RenderOptions ro;
   ro.noise_sigma = 2.0;
   sim::Renderer renderer(world, cam, ro);
@@ -99,10 +97,7 @@ BENCHMARK(BM_VisualSonar)->Name("visual_sonar_scan_us")->Unit(benchmark::kMicros
 // the runner renders it) in corridor-2's carpeted corridor, rendered outside the loop.
 void BM_WallLines(benchmark::State& state) {
   const sim::World world = sim::LoadWorld("corridor-2");
-  CameraModel cam = world.camera.Model().Scaled(128, 96);
-  const int crop = static_cast<int>(std::floor(cam.HorizonRow())) - 4;
-  cam.height -= crop;
-  cam.cy -= crop;
+  const CameraModel cam = eval::BelowHorizon(world.camera.Model().Scaled(128, 96));
   sim::RenderOptions ro;
   ro.noise_sigma = 1.0;
   sim::Renderer renderer(world, cam, ro);

@@ -292,10 +292,7 @@ void RunSonarView(const SonarViewOptions& opt) {
     pose = Pose2{x, y, DegToRad(yaw_deg)};
   }
   const eval::ExploreRunOptions run_opt;
-  CameraModel cam = world.camera.Model().Scaled(run_opt.sonar_width, run_opt.sonar_height);
-  const int crop_top = std::clamp(static_cast<int>(std::floor(cam.HorizonRow())) - 4, 0, cam.height / 2);
-  cam.height -= crop_top;
-  cam.cy -= crop_top;
+  const CameraModel cam = eval::BelowHorizon(world.camera.Model().Scaled(run_opt.sonar_width, run_opt.sonar_height));
   sim::RenderOptions ro;
   ro.supersample = run_opt.sonar_supersample;
   ro.noise_sigma = run_opt.sensor_noise_sigma;

@@ -18,17 +18,15 @@
 #include "squint/sim/ground_truth.hpp"
 
 namespace squint::eval {
-namespace {
 
-// The camera cropped to the rows from a little above the horizon down (same intrinsics, principal
-// point moved): the visual sonar and the walls' lines use only those, which saves rendering the
-// ceiling.
 CameraModel BelowHorizon(CameraModel camera) {
   const int crop_top = std::clamp(static_cast<int>(std::floor(camera.HorizonRow())) - 4, 0, camera.height / 2);
   camera.height -= crop_top;
   camera.cy -= crop_top;
   return camera;
 }
+
+namespace {
 
 double ThreadCpuSeconds() {
   timespec ts{};

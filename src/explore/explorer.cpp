@@ -753,12 +753,19 @@ bool Explorer::WallLinesHold(double stamp_s) const {
   return SteeredWithin(opt_.wall_line_axis_gain, wall_line_axis_s_, stamp_s, opt_.wall_line_hold_s);
 }
 
-void Explorer::UpdateWallLines(const Percept& p) {
-  if (opt_.wall_line_axis_gain <= 0.0 || !p.wall_line_heading_deg) return;
-  // The axis this reading implies, modulo 90° the one nearest the axis held.
+std::optional<double> Explorer::WallLineAxisDiff(const Percept& p) const {
+  if (!p.wall_line_heading_deg) return std::nullopt;
   const double raw = WrapPi(p.odom_T_robot.yaw - DegToRad(*p.wall_line_heading_deg));
   const double diff = std::remainder(raw - axis_yaw_odom_, kPi / 2);
-  if (std::abs(diff) > DegToRad(opt_.wall_line_gate_deg)) return;
+  if (std::abs(diff) > DegToRad(opt_.wall_line_gate_deg)) return std::nullopt;
+  return diff;
+}
+
+void Explorer::UpdateWallLines(const Percept& p) {
+  if (opt_.wall_line_axis_gain <= 0.0) return;
+  const std::optional<double> axis_diff = WallLineAxisDiff(p);
+  if (!axis_diff) return;
+  const double diff = *axis_diff;
   if (!wall_line_readings_.empty() && p.stamp_s - wall_line_readings_.back().stamp_s > opt_.wall_line_hold_s)
     wall_line_readings_.clear();
   wall_line_readings_.push_back({p.stamp_s, WrapPi(axis_yaw_odom_ + diff)});
@@ -777,11 +784,7 @@ void Explorer::UpdateWallLines(const Percept& p) {
 
 void Explorer::NoteWallLinesAhead(const Percept& p) {
   if (!p.wall_line_corridor_ahead_m) return;  // no frame for the lines this step
-  double ahead = 0.0;
-  if (p.wall_line_heading_deg) {
-    const double raw = WrapPi(p.odom_T_robot.yaw - DegToRad(*p.wall_line_heading_deg));
-    if (std::abs(std::remainder(raw - axis_yaw_odom_, kPi / 2)) <= DegToRad(opt_.wall_line_gate_deg)) ahead = *p.wall_line_corridor_ahead_m;
-  }
+  const double ahead = WallLineAxisDiff(p) ? *p.wall_line_corridor_ahead_m : 0.0;
   std::erase_if(wall_line_ahead_, [&](const WallLineAhead& r) { return p.stamp_s - r.stamp_s > kWallLineAheadHoldS; });
   wall_line_ahead_.push_back({p.stamp_s, p.odom_T_robot.yaw, ahead});
 }

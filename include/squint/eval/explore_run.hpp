@@ -31,6 +31,11 @@ namespace squint::eval {
 // the simulator's tiled floors and read as obstacles; SIFT costs ≈ 3× ORB's time).
 obstacles::IptOptions LoopIptOptions();
 
+// The camera cropped to the rows from a little above the horizon down (same intrinsics, principal
+// point moved): the visual sonar and the walls' lines use only those, which saves rendering the
+// ceiling.
+CameraModel BelowHorizon(CameraModel camera);
+
 struct ExploreRunOptions {
   double minutes = 45.0;           // simulated time budget (the paper's longest run)
   double frame_rate_hz = 30.0;     // camera frame rate = control rate
@@ -49,9 +54,9 @@ struct ExploreRunOptions {
   // The ceiling lights' line in each glance, found where explorer.light_centre_gain > 0.
   explore::LightLineOptions light_line;
   // The walls' base lines (wall_lines.hpp) on a camera frame of wall_lines_width ×
-  // wall_lines_height (only the rows from a little above the horizon down are rendered), every
-  // wall_lines_every frames while the explorer follows a corridor, where
-  // explorer.wall_line_axis_gain > 0.
+  // wall_lines_height (only the rows from a little above the horizon down are rendered: BelowHorizon),
+  // every wall_lines_every frames while the explorer follows a corridor (and while it probes, where
+  // explorer.wall_line_free_m > 0), where explorer.wall_line_axis_gain > 0.
   int wall_lines_every = 3;
   int wall_lines_width = 128;
   int wall_lines_height = 96;

@@ -212,10 +212,11 @@ struct ExplorerOptions {
   double wall_line_agree_deg = 3.0;
   double wall_line_hold_s = 1.0;
   double wall_line_min_diff_deg = 4.0;
-  // The walls' lines as free travel where the sonar sees no floor boundary. When the latest frame
-  // for them (within 0.25 s; taken while following or probing) shows both walls' lines with the
-  // robot between them, reading an axis within wall_line_gate_deg of the one held modulo 90°, and
-  // no foot across the corridor nearer than this (Percept::wall_line_corridor_ahead_m), then
+  // The walls' lines as free travel where the sonar sees no floor boundary. When at least half of
+  // their frames of the last 0.5 s taken facing the direction (within 20°; taken while following
+  // or probing) show both walls' lines with the robot between them, reading an axis within
+  // wall_line_gate_deg of the one held modulo 90°, and no foot across the corridor nearer than this
+  // (Percept::wall_line_corridor_ahead_m), then
   // (a) an end read by the visual sonar alone is not taken, and (b) a probed side is open when its
   // entropy passes sonar_open_min_entropy_ratio, as with the sonar's own free travel. Where the
   // floor has the walls' grey the sonar reads "blocked near" in part of its columns: `default`'s
@@ -500,6 +501,9 @@ class Explorer {
     double stamp_s, yaw, ahead_m;  // Percept::wall_line_corridor_ahead_m (0: none, or off the axis) and where it was taken
   };
   std::vector<WallLineAhead> wall_line_ahead_;  // the last readings, within kWallLineAheadHoldS
+  // The axis a walls' lines reading implies (odometry yaw − its heading), modulo 90° the one
+  // nearest the axis held, less that axis; none without a reading or beyond wall_line_gate_deg.
+  std::optional<double> WallLineAxisDiff(const Percept& p) const;
   void NoteWallLinesAhead(const Percept& p);
   bool WallLinesFree(const Percept& p, double yaw) const;
   void UpdateWallLines(const Percept& p);
