@@ -71,6 +71,8 @@ struct ExplorerVariants {
   bool rearm_after_gap = false;
   // The walls' lines' frame binned from one twice its size (ExploreRunOptions::wall_lines_binned; off).
   bool wall_lines_binned = false;
+  // Mouth centring bounded by the corridor's own wall line as it stands now (ExplorerOptions::mouth_wall_line; off).
+  bool mouth_wall_line = false;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -88,6 +90,7 @@ struct ExplorerVariants {
     ro.explorer.wall_line_free_m = wall_line_free_m;
     ro.explorer.rearm_after_gap = rearm_after_gap;
     ro.wall_lines_binned = wall_lines_binned;
+    ro.explorer.mouth_wall_line = mouth_wall_line;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -126,6 +129,8 @@ struct ExplorerVariants {
                     text("With --wall-lines: where the walls' lines show a corridor free this far ahead (metres), an end read by the visual sonar alone is not taken and a probed side is open (0: off; docs/explore.md, session 16)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 8.0));
+    cmd->add_flag("--mouth-wall-line,!--no-mouth-wall-line", mouth_wall_line,
+                  text("Mouth centring takes the corridor's wall line where it stands now (moved by the robot's sideways travel since it was read) and its remembered points as bounds too, so a gap along which the wall still stands is no mouth (off by default; docs/explore.md, session 17)"));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,
                   text("A break in a side wall handled as an opening (a door recess rejected, a junction) starts a new wall run, however short it was, so the next side branch along that wall is still found (off by default; docs/explore.md, session 16)"));
   }

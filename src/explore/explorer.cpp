@@ -1025,6 +1025,7 @@ bool Explorer::TrackSides(const Percept& p) {
     SideTrack& tr = sides_[k];
     if (wall[k] > 0.0) {
       last_wall_m_[k] = wall[k];
+      last_wall_at_[k] = o;
       if (StartsNewWallRun(tr, t, opt_)) {
         // A new run of wall (after a gap, or the first): an opening must follow a full run.
         tr = SideTrack{};
@@ -1287,13 +1288,21 @@ void Explorer::StartTurnTo(const Percept& p, int dir, int turn_deg, const std::s
 }
 
 bool Explorer::MouthCentre(const Percept& p, int side, double* along_m) const {
-  const double wall_m = last_wall_m_[side];
+  double wall_m = last_wall_m_[side];
   if (!(wall_m > 0.0)) return false;
+  // The wall line where it stands now: moved by the robot's sideways travel since it was read.
+  if (opt_.mouth_wall_line) {
+    const Eigen::Vector2d outward = side == 0 ? AxisLeft() : Eigen::Vector2d(-AxisLeft());
+    wall_m -= outward.dot(p.odom_T_robot.Translation() - last_wall_at_[side]);
+    if (!(wall_m > 0.0)) return false;
+  }
   // Where along the axis the remembered points lie inside the branch (beyond the corridor's wall
-  // line on that side): the branch's near and far walls. Farther than the memory's query radius
+  // line on that side): the branch's near and far walls; with mouth_wall_line also the corridor's
+  // own wall on that side, which bounds the mouth where it still stands. Farther than the memory's query radius
   // too: the near wall of a branch wider than the corridor was seen from the corridor only far off.
   const double reach = opt_.mouth_centre_max_m + 0.5 * opt_.branch_max_width_m;
-  const double l0 = wall_m + 0.25, l1 = wall_m + opt_.mouth_band_m;
+  const double l0 = opt_.mouth_wall_line ? std::max(0.0, wall_m - 0.2) : wall_m + 0.25;
+  const double l1 = wall_m + opt_.mouth_band_m;
   std::vector<Eigen::Vector2d> points;
   memory_.PointsInRect(Pose2{p.odom_T_robot.x, p.odom_T_robot.y, axis_yaw_odom_}, -reach, reach, side == 0 ? l0 : -l1,
                        side == 0 ? l1 : -l0, p.stamp_s, &points);

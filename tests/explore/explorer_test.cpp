@@ -572,6 +572,42 @@ TEST(Explorer, MouthCentringMovesToTheBranchCentreBeforeTurning) {
   }
 }
 
+// An L corner into a 2 m branch (x = 23 to 25) whose corridor wall, for the last 1.4 m before the
+// branch, stands 0.15 m back (a shallow recess): beyond the wall line's tolerance, so the left
+// wall run ends 1.4 m early and the mouth's near corner is taken there. The branch's near wall is
+// not read by the sonar for its first 2.5 m (as when the robot rounds the corner facing away from
+// it), so nothing else bounds the mouth: a 3.7 m mouth centred 0.6 m behind the robot's
+// stop, and the robot is sent back to turn into the branch along its near wall. With
+// mouth_wall_line the recess's remembered points, inside the band that starts 0.2 m inside the
+// wall line, bound the mouth at x = 23.
+TEST(Explorer, MouthCentringBoundedByTheCorridorsOwnWallLine) {
+  for (const bool wall_line : {false, true}) {
+    SCOPED_TRACE(wall_line);
+    ToyPlan world;
+    world.walls = {{-1, -1, 25, -1},         {-1, 1, 21.6, 1},  {21.6, 1, 21.6, 1.15}, {21.6, 1.15, 23, 1.15},
+                   {23, 1.15, 23, 3.6, false},  {23, 3.6, 23, 12}, {-1, -1, -1, 1},       {25, -1, 25, 12},
+                   {23, 12, 25, 12}};
+    world.pose = {1.0, 0.0, 0.0};
+    ExplorerOptions o;
+    o.mouth_wall_line = wall_line;
+    Explorer explorer(o);
+    double x_in_branch = -1.0;
+    double nearest = 1e9;
+    for (int i = 0; i < 30 * 90 && x_in_branch < 0.0; ++i) {
+      world.Apply(explorer.Step(world.Perceive()));
+      if (world.pose.y > 2.5) x_in_branch = world.pose.x;
+      for (double a = -kPi; a < kPi; a += kPi / 36) nearest = std::min(nearest, world.Ray(world.pose.x, world.pose.y, a));
+    }
+    ASSERT_GT(x_in_branch, 0.0) << "never entered the branch";
+    if (wall_line) {
+      EXPECT_GT(nearest, 0.6);
+      EXPECT_NEAR(x_in_branch, 24.0, 0.3);
+    } else {
+      EXPECT_LT(nearest, 0.4);  // sent back 0.6 m: passes the branch's near wall within 0.15 m
+    }
+  }
+}
+
 // An L corner whose right side is a wall the sonar cannot see (its columns read unknown, so the
 // memory holds nothing there and the free travel to that side is full), while the glance's
 // entropy looking at it is a wall's. Without sonar_open_min_entropy_ratio the right side is called

@@ -310,6 +310,14 @@ struct ExplorerOptions {
   double mouth_back_max_m = 0.8;
   double mouth_band_m = 1.5;
   double mouth_speed_mps = 0.25;
+  // Mouth centring from the corridor's wall line as it stands now: the last abeam wall distance on
+  // that side is moved by the robot's sideways travel since it was read (a corner rounded off the
+  // axis before the stop moves the robot toward that wall), and the band starts 0.2 m inside the
+  // wall line, so the remembered points of the corridor's own wall bound the mouth too: a gap
+  // along which the wall still stands is no mouth (a wall run that ended early, its synthetic
+  // corner metres before the real one, otherwise sends the robot back into the wall's end).
+  // `squint explore --mouth-wall-line`; docs/explore.md, session 17.
+  bool mouth_wall_line = false;
   ObstacleMemoryOptions memory;
   TopoMapOptions map;
 
@@ -580,6 +588,7 @@ class Explorer {
   bool shift_aligned_ = false;
   double shift_start_s_ = 0.0;
   double last_wall_m_[2] = {-1.0, -1.0};  // the last abeam wall distance per side in this corridor
+  Eigen::Vector2d last_wall_at_[2] = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};  // odometry position of that reading
 
   int turns_ = 0;
   int ends_ = 0;
