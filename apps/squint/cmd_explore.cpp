@@ -73,6 +73,8 @@ struct ExplorerVariants {
   bool wall_lines_binned = false;
   // Mouth centring bounded by the corridor's own wall line as it stands now (ExplorerOptions::mouth_wall_line; off).
   bool mouth_wall_line = false;
+  // The walls' lines also set the axis in the start-up scan and alignment (ExplorerOptions::wall_line_align; off).
+  bool wall_line_align = false;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -91,6 +93,7 @@ struct ExplorerVariants {
     ro.explorer.rearm_after_gap = rearm_after_gap;
     ro.wall_lines_binned = wall_lines_binned;
     ro.explorer.mouth_wall_line = mouth_wall_line;
+    ro.explorer.wall_line_align = wall_line_align;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -131,6 +134,8 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 8.0));
     cmd->add_flag("--mouth-wall-line,!--no-mouth-wall-line", mouth_wall_line,
                   text("Mouth centring takes the corridor's wall line where it stands now (moved by the robot's sideways travel since it was read) and its remembered points as bounds too, so a gap along which the wall still stands is no mouth (off by default; docs/explore.md, session 17)"));
+    cmd->add_flag("--wall-line-align,!--no-wall-line-align", wall_line_align,
+                  text("With --wall-lines: their frames are also taken while scanning and aligning at a standstill, and their heading modulo 90 degrees sets the axis there (off by default; docs/explore.md, session 17)"));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,
                   text("A break in a side wall handled as an opening (a door recess rejected, a junction) starts a new wall run, however short it was, so the next side branch along that wall is still found (off by default; docs/explore.md, session 16)"));
   }

@@ -257,8 +257,11 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
     }
     p.glance_entropy_nats = r.entropy;
     // While following; while probing too where the explorer takes a side the lines show free as open.
+    // While scanning and aligning too where the explorer takes its axis from them at a standstill.
     const bool wall_lines_now = explorer.State() == explore::ExploreState::kFollow ||
-                                (explorer.State() == explore::ExploreState::kProbe && options.explorer.wall_line_free_m > 0.0);
+                                (explorer.State() == explore::ExploreState::kProbe && options.explorer.wall_line_free_m > 0.0) ||
+                                ((explorer.State() == explore::ExploreState::kScan || explorer.State() == explore::ExploreState::kAlign) &&
+                                 options.explorer.wall_line_align);
     if (wall_renderer && wall_lines_now && f % options.wall_lines_every == 0) {
       MutableGrayView wv{wall_image.data, wall_image.cols, wall_image.rows, static_cast<std::ptrdiff_t>(wall_image.step)};
       double cpu4 = 0.0;

@@ -420,6 +420,8 @@ Command Explorer::ScanStep(const Percept& p) {
       const double a = std::fmod(p.odom_T_robot.yaw - DegToRad(*p.heading_deg) + 8 * kPi, kPi / 2);
       scan_axis_mod90_.push_back(a);
     }
+    if (opt_.wall_line_align && p.wall_line_heading_deg)
+      scan_line_axis_mod90_.push_back(std::fmod(p.odom_T_robot.yaw - DegToRad(*p.wall_line_heading_deg) + 8 * kPi, kPi / 2));
     // Progress of the full turn from the yaw travelled (odometry).
     scan_turned_ += std::abs(WrapPi(p.odom_T_robot.yaw - scan_prev_yaw_));
     scan_prev_yaw_ = p.odom_T_robot.yaw;
@@ -458,12 +460,10 @@ Command Explorer::ScanStep(const Percept& p) {
       return Free(p, yaw, 3.0);
     };
     // The Manhattan axis modulo 90°: the mode of the candidates (2° bins, ±2 bins smoothing).
-    double axis_mod = 0.0;
-    bool have_axis = scan_axis_mod90_.size() >= 5;
-    if (have_axis) {
+    auto mode_mod90 = [](const std::vector<double>& candidates) {
       constexpr int kBins = 45;
       std::array<double, kBins> hist{};
-      for (double a : scan_axis_mod90_) hist[static_cast<std::size_t>(std::clamp(static_cast<int>(a / (kPi / 2) * kBins), 0, kBins - 1))] += 1.0;
+      for (double a : candidates) hist[static_cast<std::size_t>(std::clamp(static_cast<int>(a / (kPi / 2) * kBins), 0, kBins - 1))] += 1.0;
       int best_i = 0;
       double best_v = -1.0;
       for (int i = 0; i < kBins; ++i) {
@@ -477,17 +477,25 @@ Command Explorer::ScanStep(const Percept& p) {
       // Refine: circular mean of the candidates within ±4° of the mode (period 90°).
       const double centre = (best_i + 0.5) * (kPi / 2) / kBins;
       double sx = 0.0, sy = 0.0;
-      for (double a : scan_axis_mod90_) {
+      for (double a : candidates) {
         if (std::abs(WrapPi(4.0 * (a - centre))) / 4.0 > DegToRad(4.0)) continue;
         sx += std::cos(4.0 * a);
         sy += std::sin(4.0 * a);
       }
-      axis_mod = (sx != 0.0 || sy != 0.0) ? std::atan2(sy, sx) / 4.0 : centre;
-    }
+      return (sx != 0.0 || sy != 0.0) ? std::atan2(sy, sx) / 4.0 : centre;
+    };
+    double axis_mod = 0.0;
+    bool have_axis = scan_axis_mod90_.size() >= 5;
+    if (have_axis) axis_mod = mode_mod90(scan_axis_mod90_);
     // The walls the memory holds outvote a glance axis that disagrees with them.
     double wall_axis = 0.0;
     if (WallAxis(&wall_axis)) {
       if (!have_axis || std::abs(std::remainder(wall_axis - axis_mod, kPi / 2)) > DegToRad(10.0)) axis_mod = wall_axis;
+      have_axis = true;
+    }
+    // The walls' lines, where they read, outvote both.
+    if (scan_line_axis_mod90_.size() >= 5) {
+      axis_mod = mode_mod90(scan_line_axis_mod90_);
       have_axis = true;
     }
     double best = -1.0;
@@ -520,6 +528,7 @@ Command Explorer::ScanStep(const Percept& p) {
   if (!Rotate(p, scan_final_, cmd)) return cmd;
   state_ = ExploreState::kAlign;
   align_samples_.clear();
+  align_line_samples_.clear();
   align_round_ = 0;
   align_rotating_ = false;
   return {};
@@ -533,9 +542,11 @@ Command Explorer::AlignStep(const Percept& p) {
     if (!Rotate(p, align_rot_, cmd)) return cmd;
     align_rotating_ = false;
     align_samples_.clear();
+    align_line_samples_.clear();
     return {};
   }
   if (p.processed && p.heading_deg) align_samples_.push_back(*p.heading_deg);
+  if (opt_.wall_line_align && p.wall_line_heading_deg) align_line_samples_.push_back(*p.wall_line_heading_deg);
   if (!start_checked_ && p.glance_entropy_nats) {
     start_entropy_sum_ += *p.glance_entropy_nats;
     ++start_entropy_n_;
@@ -560,9 +571,32 @@ Command Explorer::AlignStep(const Percept& p) {
         std::abs(median) > opt_.axis_outlier_deg) {
       state_ = ExploreState::kScan;  // not a corridor view: turn around in place and look
       align_samples_.clear();
+      align_line_samples_.clear();
       return {};
     }
     last_ref_entropy_ = mean_entropy;
+  }
+  // The walls' lines, where they read (at least 3 views, two in three within 2° of their median),
+  // give the heading modulo 90° exactly: the glance's median moves to the nearest such heading.
+  if (static_cast<int>(align_line_samples_.size()) >= 3) {
+    const double ref = align_line_samples_.front();
+    std::vector<double> d;
+    for (double h : align_line_samples_) d.push_back(RadToDeg(std::remainder(DegToRad(h - ref), kPi / 2)));
+    std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+    const double mid = d[d.size() / 2];
+    const auto near = std::count_if(d.begin(), d.end(), [&](double x) { return std::abs(x - mid) <= 2.0; });
+    if (3 * near >= 2 * static_cast<std::ptrdiff_t>(d.size())) {
+      const double line = ref + mid;
+      const double nearest = line + 90.0 * std::round((median - line) / 90.0);
+      // Far from the glance's median (which of the four the axis is, the glance cannot tell):
+      // look all around once, the lines giving the axis and the free travel the direction.
+      if (std::abs(nearest - median) > kAlignLineAgreeDeg && !align_line_scanned_) {
+        align_line_scanned_ = true;
+        StartScan(p);
+        return {};
+      }
+      median = nearest;
+    }
   }
   if (align_round_ < opt_.align_rounds && std::abs(median) > opt_.align_done_deg) {
     ++align_round_;
@@ -582,8 +616,22 @@ Command Explorer::AlignStep(const Percept& p) {
   }
   Emit(ExploreEvent::Kind::kScanDone, p, 0,
        Format("set off at odometry yaw %.0f deg after %d alignment rounds", RadToDeg(axis_yaw_odom_), align_round_));
+  align_line_scanned_ = false;
   StartFollow(p);
   return {};
+}
+
+void Explorer::StartScan(const Percept& p) {
+  state_ = ExploreState::kScan;
+  scan_axis_mod90_.clear();
+  scan_line_axis_mod90_.clear();
+  std::fill(scan_sum_.begin(), scan_sum_.end(), 0.0);
+  std::fill(scan_count_.begin(), scan_count_.end(), 0);
+  std::fill(scan_views_.begin(), scan_views_.end(), 0);
+  std::fill(scan_wall_views_.begin(), scan_wall_views_.end(), 0);
+  scan_turned_ = 0.0;
+  scan_start_yaw_ = scan_prev_yaw_ = p.odom_T_robot.yaw;
+  scan_rotating_ = true;
 }
 
 // --- Follow -----------------------------------------------------------------------------------
@@ -1241,15 +1289,7 @@ void Explorer::Decide(const Percept& p) {
     ++turns_;
     Emit(ExploreEvent::Kind::kTurn, p, 0, "no passable branch: full turn to re-acquire the corridor");
     rescan_ = true;
-    state_ = ExploreState::kScan;
-    scan_axis_mod90_.clear();
-    std::fill(scan_sum_.begin(), scan_sum_.end(), 0.0);
-    std::fill(scan_count_.begin(), scan_count_.end(), 0);
-    std::fill(scan_views_.begin(), scan_views_.end(), 0);
-    std::fill(scan_wall_views_.begin(), scan_wall_views_.end(), 0);
-    scan_turned_ = 0.0;
-    scan_start_yaw_ = scan_prev_yaw_ = p.odom_T_robot.yaw;
-    scan_rotating_ = true;
+    StartScan(p);
     return;
   }
   if (next < 0) next = Opposite(dir_);

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <functional>
+#include <optional>
 
 #include "squint/core/angles.hpp"
 
@@ -339,6 +340,7 @@ struct ToyPlan {
   // The walls' lines with each scan: the heading off the axis, and the corridor free ahead up to
   // the first wall (floor edges do not end the floor's texture), at most 8 m.
   bool wall_lines = false;
+  double glance_bias_deg = 0.0;  // the glance's heading reads this much too far left (a carpeted corridor's)
   static constexpr double kBlind = 1.2;
 
   // Distance along a ray to the first wall (a large number when none); that wall in *hit.
@@ -379,7 +381,7 @@ struct ToyPlan {
     if (p.processed) {
       const double left = std::min(1.5, Ray(pose.x, pose.y, axis + kPi / 2));
       const double right = std::min(1.5, Ray(pose.x, pose.y, axis - kPi / 2));
-      p.heading_deg = heading_deg;
+      p.heading_deg = heading_deg + glance_bias_deg;
       p.centre_heading_deg = heading_deg + 40.0 * 0.5 * (right - left);
       p.dist_end_m = std::min(30.0, Ray(pose.x, pose.y, axis));
     }
@@ -604,6 +606,41 @@ TEST(Explorer, MouthCentringBoundedByTheCorridorsOwnWallLine) {
       EXPECT_NEAR(x_in_branch, 24.0, 0.3);
     } else {
       EXPECT_LT(nearest, 0.4);  // sent back 0.6 m: passes the branch's near wall within 0.15 m
+    }
+  }
+}
+
+// Starting 40° off a straight corridor's axis where the glance reads 40° too far left (so it
+// reads the robot aligned) and the walls' lines read the truth. Without wall_line_align the robot
+// sets off 40° off; with it the lines disagree with the glance by more than 20°, so it looks all
+// around, takes the axis from the lines and the direction from the free travel, and sets off along
+// the corridor (the glance's median then moved to the lines' heading nearest it).
+TEST(Explorer, WallLinesSetTheAxisAtTheStartWhereTheGlanceIsOff) {
+  for (const bool align : {false, true}) {
+    SCOPED_TRACE(align);
+    ToyPlan world;
+    world.walls = {{-1, -1, 30, -1}, {-1, 1, 30, 1}, {-1, -1, -1, 1}, {30, -1, 30, 1}};
+    world.pose = {8.0, 0.0, DegToRad(-40.0)};
+    world.wall_lines = true;
+    world.glance_bias_deg = 40.0;
+    ExplorerOptions o;
+    o.wall_line_axis_gain = 0.2;
+    o.wall_line_align = align;
+    Explorer explorer(o);
+    std::optional<double> setoff_deg;
+    bool scanned = false;
+    for (int i = 0; i < 30 * 40 && !setoff_deg; ++i) {
+      world.Apply(explorer.Step(world.Perceive()));
+      scanned = scanned || explorer.State() == ExploreState::kScan;
+      if (explorer.State() == ExploreState::kFollow) setoff_deg = RadToDeg(world.pose.yaw);
+    }
+    ASSERT_TRUE(setoff_deg.has_value()) << "never set off";
+    EXPECT_EQ(scanned, align);  // the glance alone reads a corridor view: no scan
+    const double off = std::abs(std::remainder(*setoff_deg, 180.0));  // either way along the corridor
+    if (align) {
+      EXPECT_LT(off, 2.0);
+    } else {
+      EXPECT_GT(off, 30.0);
     }
   }
 }

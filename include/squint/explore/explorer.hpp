@@ -231,6 +231,13 @@ struct ExplorerOptions {
   // stands inside the sonar's blind range: every `default` corner was a dead end. Off by default
   // (`squint explore --end-probe-memory`; docs/explore.md, session 15).
   bool end_probe_memory = false;
+  // The walls' lines also set the axis at a standstill: in the start-up scan (and a re-acquiring
+  // full turn) their readings' mode, modulo 90°, is the axis whatever the glance's candidates and
+  // the remembered walls say; in the alignment the glance's median heading is moved to the lines'
+  // heading modulo 90° nearest it (the glance in a carpeted corridor can read 30-45° off). Needs
+  // the lines' frames while scanning and aligning (eval::RunExplore renders them when this is on
+  // and wall_line_axis_gain > 0). `squint explore --wall-line-align`; docs/explore.md, session 17.
+  bool wall_line_align = false;
   double rescan_yaw_deg = 12.0;       // no forward motion until a scan was taken at the heading
   // Following: after this travel in the corridor the latest scan's blocked-near columns block only
   // the narrow sector at the blind range, and those along which the floor in the blind zone was
@@ -433,6 +440,7 @@ class Explorer {
   // The side branch's centre line along the axis from the robot (metres, ahead positive), from the
   // remembered walls of its mouth (mouth_centre_min_m); false when they do not show one.
   bool MouthCentre(const Percept& p, int side, double* along_m) const;
+  void StartScan(const Percept& p);  // a full turn in place from the current yaw, its tallies cleared
   // Before a turn into a side branch: back to the axis, then along it to the mouth's centre.
   Command ShiftStep(const Percept& p);
   void StartProbe(bool at_end = false);  // at_end: started by the end of a corridor (end_probe_memory)
@@ -537,6 +545,7 @@ class Explorer {
 
   // Scan.
   std::vector<double> scan_axis_mod90_;  // candidate axis angles (rad, [0, pi/2)) from the scan
+  std::vector<double> scan_line_axis_mod90_;  // the same from the walls' lines (wall_line_align)
   std::vector<double> outlier_axes_;
   std::vector<double> dist_hist_;
   std::vector<double> scan_sum_;
@@ -549,6 +558,9 @@ class Explorer {
   bool scan_rotating_ = true;
   Rotation scan_final_;
   std::vector<double> align_samples_;
+  std::vector<double> align_line_samples_;  // the walls' lines' headings while aligning (wall_line_align)
+  bool align_line_scanned_ = false;  // the lines sent this alignment to a full scan once already
+  static constexpr double kAlignLineAgreeDeg = 20.0;  // the lines' heading this far from the glance's: scan
   int align_round_ = 0;
   bool align_rotating_ = false;
   bool start_checked_ = false;
