@@ -59,20 +59,20 @@ struct ExplorerVariants {
   // does not erase a thin thing such as a chair leg (ObstacleMemoryOptions::clear_own_within_m; off).
   bool own_range_clearing = false;
   // The walls' base lines from the floor's texture steer the corridor axis
-  // (ExplorerOptions::wall_line_axis_gain; off).
-  bool wall_lines = false;
+  // (ExplorerOptions::wall_line_axis_gain; on since session 17).
+  bool wall_lines = true;
   // At the end of a corridor a side open by entropy is open where the remembered points leave it
-  // free, whatever the latest scan's blocked-near columns say (ExplorerOptions::end_probe_memory; off).
-  bool end_probe_memory = false;
+  // free, whatever the latest scan's blocked-near columns say (ExplorerOptions::end_probe_memory; on since session 17).
+  bool end_probe_memory = true;
   // With the walls' lines: where they show the corridor free this far, a sonar end is not taken
-  // and a probed side is open (ExplorerOptions::wall_line_free_m; 0: off).
-  double wall_line_free_m = 0.0;
-  // A break in a side wall handled as an opening starts a new wall run (ExplorerOptions::rearm_after_gap; off).
-  bool rearm_after_gap = false;
-  // The walls' lines' frame binned from one twice its size (ExploreRunOptions::wall_lines_binned; off).
-  bool wall_lines_binned = false;
-  // Mouth centring bounded by the corridor's own wall line as it stands now (ExplorerOptions::mouth_wall_line; off).
-  bool mouth_wall_line = false;
+  // and a probed side is open (ExplorerOptions::wall_line_free_m; 0: off; 2.5 since session 17).
+  double wall_line_free_m = 2.5;
+  // A break in a side wall handled as an opening starts a new wall run (ExplorerOptions::rearm_after_gap; on since session 17).
+  bool rearm_after_gap = true;
+  // The walls' lines' frame binned from one twice its size (ExploreRunOptions::wall_lines_binned; on since session 17).
+  bool wall_lines_binned = true;
+  // Mouth centring bounded by the corridor's own wall line as it stands now (ExplorerOptions::mouth_wall_line; on since session 17).
+  bool mouth_wall_line = true;
   // The walls' lines also set the axis in the start-up scan and alignment (ExplorerOptions::wall_line_align; off).
   bool wall_line_align = false;
 
@@ -123,21 +123,21 @@ struct ExplorerVariants {
     cmd->add_flag("--own-range-clearing,!--no-own-range-clearing", own_range_clearing,
                   text("A visual-sonar column clears the obstacle memory only up to its own reading within 1.2 m (none where it was itself blocked near), so thin things such as chair legs stay remembered (off by default; docs/explore.md, session 14)"));
     cmd->add_flag("--wall-lines,!--no-wall-lines", wall_lines,
-                  text("The walls' base lines, where the floor's texture ends in a 128x96 frame every 3rd frame, steer the corridor axis while following; measured with --end-probe-memory (off by default; docs/explore.md, session 15)"));
+                  text("The walls' base lines, where the floor's texture ends in a 128x96 frame every 3rd frame, steer the corridor axis while following; measured with --end-probe-memory (on by default since session 17; docs/explore.md, sessions 15 and 17)"));
     cmd->add_flag("--end-probe-memory,!--no-end-probe-memory", end_probe_memory,
-                  text("At the end of a corridor a side open by the entropy rule is open where the remembered points leave it free, whatever the latest sonar scan's blocked-near columns say (off by default; docs/explore.md, session 15)"));
+                  text("At the end of a corridor a side open by the entropy rule is open where the remembered points leave it free, whatever the latest sonar scan's blocked-near columns say (on by default since session 17; docs/explore.md, sessions 15 and 17)"));
     cmd->add_flag("--wall-lines-binned,!--no-wall-lines-binned", wall_lines_binned,
-                  text("With --wall-lines: their frame is the camera's image downsampled (rendered at twice the size, one sample and the sensor's noise per pixel, averaged over 2x2 blocks), so the noise averages; at the loop's noise most frames then read (off by default; docs/explore.md, session 16)"));
+                  text("With --wall-lines: their frame is the camera's image downsampled (rendered at twice the size, one sample and the sensor's noise per pixel, averaged over 2x2 blocks), so the noise averages; at the loop's noise most frames then read (on by default since session 17; docs/explore.md, sessions 16 and 17)"));
     cmd->add_option("--wall-line-free", wall_line_free_m,
-                    text("With --wall-lines: where the walls' lines show a corridor free this far ahead (metres), an end read by the visual sonar alone is not taken and a probed side is open (0: off; docs/explore.md, session 16)"))
+                    text("With --wall-lines: where the walls' lines show a corridor free this far ahead (metres), an end read by the visual sonar alone is not taken and a probed side is open (0: off; 2.5 by default since session 17; docs/explore.md, sessions 16 and 17)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 8.0));
     cmd->add_flag("--mouth-wall-line,!--no-mouth-wall-line", mouth_wall_line,
-                  text("Mouth centring takes the corridor's wall line where it stands now (moved by the robot's sideways travel since it was read) and its remembered points as bounds too, so a gap along which the wall still stands is no mouth (off by default; docs/explore.md, session 17)"));
+                  text("Mouth centring takes the corridor's wall line where it stands now (moved by the robot's sideways travel since it was read) and its remembered points as bounds too, so a gap along which the wall still stands is no mouth (on by default; docs/explore.md, session 17)"));
     cmd->add_flag("--wall-line-align,!--no-wall-line-align", wall_line_align,
                   text("With --wall-lines: their frames are also taken while scanning and aligning at a standstill, and their heading modulo 90 degrees sets the axis there (off by default; docs/explore.md, session 17)"));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,
-                  text("A break in a side wall handled as an opening (a door recess rejected, a junction) starts a new wall run, however short it was, so the next side branch along that wall is still found (off by default; docs/explore.md, session 16)"));
+                  text("A break in a side wall handled as an opening (a door recess rejected, a junction) starts a new wall run, however short it was, so the next side branch along that wall is still found (on by default since session 17; docs/explore.md, sessions 16 and 17)"));
   }
 };
 

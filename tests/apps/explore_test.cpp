@@ -146,7 +146,12 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
   std::filesystem::remove_all(dir);
 }
 
-// --own-range-clearing (off by default): obstacle-course start 1 of seed 12 sets off beside the
+// The explorer as it was before session 17 made the walls' lines and their companions the defaults.
+const std::string kWithoutWallLines =
+    " --no-wall-lines --no-end-probe-memory --no-wall-lines-binned --wall-line-free 0 --no-rearm-after-gap --no-mouth-wall-line";
+
+// --own-range-clearing (off by default), with the explorer as it was without the walls' lines
+// (session 14): obstacle-course start 1 of seed 12 sets off beside the
 // chair at (8.5, -1.2), whose 4 cm legs the sonar's median across columns votes out; the floor
 // seen under its seat then clears the memory there and the robot touches the chair within 5 s.
 // With each column clearing only up to its own reading the legs stay remembered: no contact.
@@ -157,13 +162,13 @@ TEST(ExploreCli, OwnRangeClearingKeepsTheChairLegsRemembered) {
   };
   // Without it: the first contact is the chair (the world file's obstacles[3]), within 5 s, with
   // the robot's centre within its reach (the seat spans 8.275-8.725 x -1.425 to -0.975 m).
-  const nlohmann::json off = summary("off", "");
+  const nlohmann::json off = summary("off", kWithoutWallLines);
   EXPECT_GT(off["collisions"].get<long>(), 0);
   EXPECT_EQ(off["first_hit"].get<std::string>(), "obstacles[3] (chair)");
   EXPECT_LT(off["first_collision_s"].get<double>(), 5.0);
   EXPECT_NEAR(off["first_collision_x_m"].get<double>(), 8.5, 0.225 + 0.22 + 0.01);
   EXPECT_NEAR(off["first_collision_y_m"].get<double>(), -1.2, 0.225 + 0.22 + 0.01);
-  const nlohmann::json on = summary("on", " --own-range-clearing");
+  const nlohmann::json on = summary("on", kWithoutWallLines + " --own-range-clearing");
   EXPECT_EQ(on["collisions"].get<long>(), 0);
   EXPECT_TRUE(on["first_collision_s"].is_null());
   EXPECT_EQ(on["first_hit"].get<std::string>(), "");
@@ -173,19 +178,23 @@ TEST(ExploreCli, OwnRangeClearingKeepsTheChairLegsRemembered) {
 // corridor-2 (carpet under panels of its grey), seeded start 4 of seed 2: set off within 4° of
 // the axis, the glance's scattered heading lets the axis wander (more than 10° off on 42 % of the
 // following frames) and the robot meets a wall at 119 s. With the walls' lines (and the end probe
-// that the exactly held axis needs at L corners) the axis stays within 10° on 97 % and it does not.
+// that the exactly held axis needs at L corners) the axis stays within 10° on 97 % and it does not;
+// so too with all of session 17's defaults.
 TEST(ExploreCli, WallLinesHoldTheAxisWhereTheWallsHaveTheFloorsGrey) {
   const auto dir = TempDir("wall-lines");
   auto summary = [&](const std::string& name, const std::string& flag) {
     return ExploreSummary(dir / name, "--world corridor-2 --seed 2 --eval-start 4 --minutes 2.1" + flag);
   };
-  const nlohmann::json off = summary("off", "");
+  const nlohmann::json off = summary("off", kWithoutWallLines);
   EXPECT_GT(off["collisions"].get<long>(), 0);
   EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
   EXPECT_GT(off["axis_error_over_10deg"].get<double>(), 0.3);
-  const nlohmann::json on = summary("on", " --wall-lines --end-probe-memory");
+  const nlohmann::json on = summary("on", kWithoutWallLines + " --wall-lines --end-probe-memory");
   EXPECT_EQ(on["collisions"].get<long>(), 0);
   EXPECT_LT(on["axis_error_over_10deg"].get<double>(), 0.1);
+  const nlohmann::json defaults = summary("defaults", "");
+  EXPECT_EQ(defaults["collisions"].get<long>(), 0);
+  EXPECT_LT(defaults["axis_error_over_10deg"].get<double>(), 0.1);
   std::filesystem::remove_all(dir);
 }
 

@@ -485,6 +485,7 @@ TEST(Explorer, SideBranchMetFromTheBarIsRecordedAndTakenFirst) {
 // next side branch along that wall is passed (`default`'s stem, seed 12 with --wall-lines).
 TEST(Explorer, AWallBreakHandledAsAnOpeningStartsANewRunWithRearm) {
   ExplorerOptions o;
+  o.rearm_after_gap = false;
   SideTrack none;
   EXPECT_TRUE(StartsNewWallRun(none, 3.0, o));  // the first wall seen
   SideTrack run;

@@ -56,17 +56,18 @@ struct ExploreRunOptions {
   // The walls' base lines (wall_lines.hpp) on a camera frame of wall_lines_width ×
   // wall_lines_height (only the rows from a little above the horizon down are rendered: BelowHorizon),
   // every wall_lines_every frames while the explorer follows a corridor (and while it probes, where
-  // explorer.wall_line_free_m > 0), where explorer.wall_line_axis_gain > 0.
+  // explorer.wall_line_free_m > 0; while it scans and aligns, where explorer.wall_line_align), where
+  // explorer.wall_line_axis_gain > 0.
   int wall_lines_every = 3;
   int wall_lines_width = 128;
   int wall_lines_height = 96;
   int wall_lines_supersample = 2;
   // The frame as the camera's image downsampled: rendered wall_lines_supersample times larger,
   // one sample per pixel each with the sensor's own noise, and averaged over each block (so its
-  // noise averages as a real downsampled image's does; session 16). False (the default, as session
-  // 15 measured the walls' lines): rendered at its size with wall_lines_supersample² samples per
-  // pixel and the sensor's noise added per pixel.
-  bool wall_lines_binned = false;
+  // noise averages as a real downsampled image's does; session 16; the default since session 17).
+  // False (as session 15 measured the walls' lines): rendered at its size with
+  // wall_lines_supersample² samples per pixel and the sensor's noise added per pixel.
+  bool wall_lines_binned = true;
   explore::WallLineOptions wall_lines;
   // Obstacle pipeline (issue 6: IPT feature classification, outlines, contacts, polar map,
   // free-gap steering) on a camera frame of ipt_width × ipt_height rendered every ipt_every frames

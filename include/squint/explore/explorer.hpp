@@ -204,9 +204,9 @@ struct ExplorerOptions {
   // walls have the floor's grey the glance's cues scatter by 10° and more (corridor-2, `default`'s
   // carpeted middle corridor) while the lines read within 1–2°. A confirmed median within
   // wall_line_min_diff_deg of the axis leaves it alone (where the glance reads well the lines only
-  // guard against its larger errors). 0 turns it off (the default; `squint explore --wall-lines`
-  // sets 0.2; docs/explore.md, session 15).
-  double wall_line_axis_gain = 0.0;
+  // guard against its larger errors). 0 turns it off (`squint explore --no-wall-lines`); 0.2, the
+  // default since session 17 (docs/explore.md, sessions 15-17).
+  double wall_line_axis_gain = 0.2;
   double wall_line_gate_deg = 30.0;
   int wall_line_confirm = 3;
   double wall_line_agree_deg = 3.0;
@@ -221,16 +221,17 @@ struct ExplorerOptions {
   // entropy passes sonar_open_min_entropy_ratio, as with the sonar's own free travel. Where the
   // floor has the walls' grey the sonar reads "blocked near" in part of its columns: `default`'s
   // carpeted middle corridor was read as an end 1.5 m into its mouth, and its mouth as a wall from
-  // the west corridor. 0 turns it off (the default; docs/explore.md, session 16).
-  double wall_line_free_m = 0.0;
+  // the west corridor. 0 turns it off (`squint explore --wall-line-free 0`); 2.5, the default since
+  // session 17 (docs/explore.md, sessions 16-17).
+  double wall_line_free_m = 2.5;
   // At the end of a corridor (not at a side branch or a blockage), a side the entropy rule calls
   // open (open_entropy_ratio) is also open where the remembered points alone leave it free for
   // sonar_open_free_m, whatever the latest scan's blocked-near columns say. With an axis held
   // exactly (wall_line_axis_gain) the robot arrives at an L corner's end wall instead of rounding
   // the corner, and looking into the branch from beside its mouth the near wall of the branch
-  // stands inside the sonar's blind range: every `default` corner was a dead end. Off by default
-  // (`squint explore --end-probe-memory`; docs/explore.md, session 15).
-  bool end_probe_memory = false;
+  // stands inside the sonar's blind range: every `default` corner was a dead end. On by default
+  // since session 17 (`squint explore --no-end-probe-memory`; docs/explore.md, sessions 15-17).
+  bool end_probe_memory = true;
   // The walls' lines also set the axis at a standstill: in the start-up scan (and a re-acquiring
   // full turn) their readings' mode, modulo 90°, is the axis whatever the glance's candidates and
   // the remembered walls say; in the alignment the glance's median heading is moved to the lines'
@@ -280,10 +281,11 @@ struct ExplorerOptions {
   // ...unless the break was handled as an opening (a door recess rejected as too narrow, a
   // junction): the wall after it starts a new run. Without it a short break consumed the run, and
   // the next side branch along the same wall was passed unseen (`default`'s stem, seed 12 with
-  // --wall-lines). Off by default: with the glance's heading alone, the flaky wall readings of
-  // `default`'s carpeted middle corridor then give more false openings (collisions on 45-minute
-  // seeds 10 and 16; `squint explore --rearm-after-gap`; docs/explore.md, session 16).
-  bool rearm_after_gap = false;
+  // --wall-lines). On by default since session 17, with the walls' lines; with the glance's heading
+  // alone the flaky wall readings of `default`'s carpeted middle corridor give more false openings
+  // (collisions on 45-minute seeds 10 and 16; `squint explore --no-rearm-after-gap`;
+  // docs/explore.md, sessions 16 and 17).
+  bool rearm_after_gap = true;
   double branch_min_width_m = 1.2;
   double branch_default_width_m = 2.0;   // when the far edge is not seen (yet)
   double branch_max_width_m = 4.0;       // a longer gap is not treated as one side branch
@@ -323,8 +325,8 @@ struct ExplorerOptions {
   // wall line, so the remembered points of the corridor's own wall bound the mouth too: a gap
   // along which the wall still stands is no mouth (a wall run that ended early, its synthetic
   // corner metres before the real one, otherwise sends the robot back into the wall's end).
-  // `squint explore --mouth-wall-line`; docs/explore.md, session 17.
-  bool mouth_wall_line = false;
+  // On by default (`squint explore --no-mouth-wall-line`; docs/explore.md, session 17).
+  bool mouth_wall_line = true;
   ObstacleMemoryOptions memory;
   TopoMapOptions map;
 
