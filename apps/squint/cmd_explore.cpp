@@ -75,6 +75,8 @@ struct ExplorerVariants {
   bool mouth_wall_line = true;
   // The walls' lines also set the axis in the start-up scan and alignment (ExplorerOptions::wall_line_align; off).
   bool wall_line_align = false;
+  // An opening beside a junction whose side was judged a wall is looked at (ExplorerOptions::opening_beside_wall_node; off).
+  bool opening_beside_wall_node = false;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -94,6 +96,7 @@ struct ExplorerVariants {
     ro.wall_lines_binned = wall_lines_binned;
     ro.explorer.mouth_wall_line = mouth_wall_line;
     ro.explorer.wall_line_align = wall_line_align;
+    ro.explorer.opening_beside_wall_node = opening_beside_wall_node;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -136,6 +139,8 @@ struct ExplorerVariants {
                   text("Mouth centring takes the corridor's wall line where it stands now (moved by the robot's sideways travel since it was read) and its remembered points as bounds too, so a gap along which the wall still stands is no mouth (on by default; docs/explore.md, session 17)"));
     cmd->add_flag("--wall-line-align,!--no-wall-line-align", wall_line_align,
                   text("With --wall-lines: their frames are also taken while scanning and aligning at a standstill, and their heading modulo 90 degrees sets the axis there (off by default; docs/explore.md, session 17)"));
+    cmd->add_flag("--opening-beside-wall-node,!--no-opening-beside-wall-node", opening_beside_wall_node,
+                  text("An opening found more than 0.8 m from a known junction whose side there was judged a wall is looked at as a new opening instead of being passed (off by default; docs/explore.md, session 17)"));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,
                   text("A break in a side wall handled as an opening (a door recess rejected, a junction) starts a new wall run, however short it was, so the next side branch along that wall is still found (on by default since session 17; docs/explore.md, sessions 16 and 17)"));
   }

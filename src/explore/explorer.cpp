@@ -1141,11 +1141,15 @@ bool Explorer::OnOpening(const Percept& p, int side, double width_m) {
   if (ahead_free < opt_.sonar_end_gap_m) return false;
   const int known = map_.NodeNear(pos);
   if (known >= 0 && known == map_.DepartedFrom()) return false;  // still leaving that junction
-  if (known >= 0 && map_.Nodes()[known].branch[side_dir] != Branch::kUnknown) {
-    // A junction met before whose side branch is known: pass unless the map routes into it.
+  const bool known_side = known >= 0 && map_.Nodes()[known].branch[side_dir] != Branch::kUnknown;
+  if (known_side && (map_.Nodes()[known].position_m - pos).norm() > opt_.branch_known_radius_m) {
     // Far from the node's position (e.g. an opening seen while leaving a side branch at an
-    // angle) it is left alone: the end detection or the next opening takes over.
-    if ((map_.Nodes()[known].position_m - pos).norm() > opt_.branch_known_radius_m) return false;
+    // angle) it is left alone: the end detection or the next opening takes over. With
+    // opening_beside_wall_node, where the node's side was judged a wall, it is another opening
+    // (the node a false stop beside it) and is looked at as a new one.
+    if (!opt_.opening_beside_wall_node || map_.Nodes()[known].branch[side_dir] != Branch::kWall) return false;
+  } else if (known_side) {
+    // A junction met before whose side branch is known: pass unless the map routes into it.
     ++junctions_;
     node_ = map_.Arrive(pos, dir_);
     if (map_.Nodes()[node_].branch[dir_] == Branch::kUnknown) map_.SetBranch(node_, dir_, Branch::kOpen);

@@ -646,6 +646,43 @@ TEST(Explorer, WallLinesSetTheAxisAtTheStartWhereTheGlanceIsOff) {
   }
 }
 
+// A 1.2 m wide recess on the right at x = 6.5-7.7 whose back wall the sonar does not read (a wall
+// of the floor's grey) is taken for an opening and judged a wall at its probe (its entropy is a
+// wall's); the T's stem on the
+// same side at x = 9-11 lies within the map's merge radius of that junction but more than
+// branch_known_radius_m from it. On the way out it is not looked at (the junction just left); on
+// the way back from the bar's far end, without opening_beside_wall_node the opening is left alone
+// again, and with it the stem is looked at as a new opening and taken.
+TEST(Explorer, OpeningBesideAJunctionJudgedAWallIsLookedAt) {
+  for (const bool beside : {false, true}) {
+    SCOPED_TRACE(beside);
+    ToyPlan world;
+    world.walls = {{-1, 1, 25, 1},       {-1, -1, 6.5, -1}, {6.5, -1, 6.5, -1.15}, {6.5, -1.15, 7.7, -1.15, false},
+                   {7.7, -1.15, 7.7, -1}, {7.7, -1, 9, -1},  {11, -1, 25, -1},      {-1, -1, -1, 1},
+                   {25, -1, 25, 1},       {9, -1, 9, -11},   {11, -1, 11, -11},     {9, -11, 11, -11}};
+    world.pose = {1.0, 0.0, 0.0};
+    ExplorerOptions o;
+    o.opening_beside_wall_node = beside;
+    Explorer explorer(o);
+    double x_in_stem = -1.0, max_x = 0.0;
+    for (int i = 0; i < 30 * 120 && x_in_stem < 0.0; ++i) {
+      world.Apply(explorer.Step(world.Perceive()));
+      max_x = std::max(max_x, world.pose.x);
+      if (world.pose.y < -2.5 && world.pose.x > 8.5) x_in_stem = world.pose.x;
+    }
+    // Both stop at the recess first and judge it a wall.
+    ASSERT_GE(explorer.Events().size(), 3u);
+    EXPECT_NE(explorer.Events()[1].note.find("opening on the right"), std::string::npos) << explorer.Events()[1].note;
+    EXPECT_NEAR(explorer.Events()[1].odom_T_robot.x, 7.1, 0.8);  // ideal odometry: the true pose
+    EXPECT_GT(max_x, 20.0);  // on the way out the stem is not looked at (the junction just left)
+    if (beside) {
+      EXPECT_NEAR(x_in_stem, 10.0, 0.5);  // on the way back
+    } else {
+      EXPECT_LT(x_in_stem, 0.0);  // passed both ways within the 120 s
+    }
+  }
+}
+
 // An L corner whose right side is a wall the sonar cannot see (its columns read unknown, so the
 // memory holds nothing there and the free travel to that side is full), while the glance's
 // entropy looking at it is a wall's. Without sonar_open_min_entropy_ratio the right side is called

@@ -292,6 +292,12 @@ struct ExplorerOptions {
   double branch_depth_m = 2.0;
   double branch_max_heading_deg = 15.0;  // no stop while heading farther than this off the axis
   double branch_known_radius_m = 0.8;    // a known junction is used only this close to its node
+  // An opening found farther than branch_known_radius_m from a known junction (within the map's
+  // merge radius) whose side there was judged a wall is looked at as a new opening instead of
+  // being left alone. A false stop 2 m before `default`'s carpeted middle corridor (its side a
+  // wall) otherwise hid the real mouth on every later pass (45-minute seed 27). Off by default
+  // (`squint explore --opening-beside-wall-node`; docs/explore.md, session 17).
+  bool opening_beside_wall_node = false;
   // The wall line of an armed side (the median of the run's last branch_line_samples abeam
   // readings, in the corridor frame): a reading more than branch_line_tolerance_m beyond it is
   // not that wall (a floor-material edge seen through an opening, which the sonar reads about
