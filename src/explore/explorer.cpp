@@ -416,12 +416,10 @@ Command Explorer::ScanStep(const Percept& p) {
       ++scan_views_[b];
       if (view_is_wall_) ++scan_wall_views_[b];
     }
-    if (p.processed && p.heading_deg) {
-      const double a = std::fmod(p.odom_T_robot.yaw - DegToRad(*p.heading_deg) + 8 * kPi, kPi / 2);
-      scan_axis_mod90_.push_back(a);
-    }
-    if (opt_.wall_line_align && p.wall_line_heading_deg)
-      scan_line_axis_mod90_.push_back(std::fmod(p.odom_T_robot.yaw - DegToRad(*p.wall_line_heading_deg) + 8 * kPi, kPi / 2));
+    // The axis a heading reading implies, modulo 90° in [0, π/2).
+    auto axis_mod90 = [&](double heading_deg) { return std::fmod(p.odom_T_robot.yaw - DegToRad(heading_deg) + 8 * kPi, kPi / 2); };
+    if (p.processed && p.heading_deg) scan_axis_mod90_.push_back(axis_mod90(*p.heading_deg));
+    if (opt_.wall_line_align && p.wall_line_heading_deg) scan_line_axis_mod90_.push_back(axis_mod90(*p.wall_line_heading_deg));
     // Progress of the full turn from the yaw travelled (odometry).
     scan_turned_ += std::abs(WrapPi(p.odom_T_robot.yaw - scan_prev_yaw_));
     scan_prev_yaw_ = p.odom_T_robot.yaw;
@@ -527,8 +525,7 @@ Command Explorer::ScanStep(const Percept& p) {
   Command cmd;
   if (!Rotate(p, scan_final_, cmd)) return cmd;
   state_ = ExploreState::kAlign;
-  align_samples_.clear();
-  align_line_samples_.clear();
+  ClearAlignSamples();
   align_round_ = 0;
   align_rotating_ = false;
   return {};
@@ -541,8 +538,7 @@ Command Explorer::AlignStep(const Percept& p) {
   if (align_rotating_) {
     if (!Rotate(p, align_rot_, cmd)) return cmd;
     align_rotating_ = false;
-    align_samples_.clear();
-    align_line_samples_.clear();
+    ClearAlignSamples();
     return {};
   }
   if (p.processed && p.heading_deg) align_samples_.push_back(*p.heading_deg);
@@ -570,8 +566,7 @@ Command Explorer::AlignStep(const Percept& p) {
     if (!enough || mean_entropy < opt_.start_corridor_entropy_nats || spread > opt_.start_max_spread_deg ||
         std::abs(median) > opt_.axis_outlier_deg) {
       state_ = ExploreState::kScan;  // not a corridor view: turn around in place and look
-      align_samples_.clear();
-      align_line_samples_.clear();
+      ClearAlignSamples();
       return {};
     }
     last_ref_entropy_ = mean_entropy;
@@ -619,6 +614,11 @@ Command Explorer::AlignStep(const Percept& p) {
   align_line_scanned_ = false;
   StartFollow(p);
   return {};
+}
+
+void Explorer::ClearAlignSamples() {
+  align_samples_.clear();
+  align_line_samples_.clear();
 }
 
 void Explorer::StartScan(const Percept& p) {

@@ -449,6 +449,7 @@ class Explorer {
   // remembered walls of its mouth (mouth_centre_min_m); false when they do not show one.
   bool MouthCentre(const Percept& p, int side, double* along_m) const;
   void StartScan(const Percept& p);  // a full turn in place from the current yaw, its tallies cleared
+  void ClearAlignSamples();          // the glance's and the walls' lines' headings gathered while aligning
   // Before a turn into a side branch: back to the axis, then along it to the mouth's centre.
   Command ShiftStep(const Percept& p);
   void StartProbe(bool at_end = false);  // at_end: started by the end of a corridor (end_probe_memory)
