@@ -77,6 +77,21 @@ struct ExplorerVariants {
   bool wall_line_align = false;
   // An opening beside a junction whose side was judged a wall is looked at (ExplorerOptions::opening_beside_wall_node; off).
   bool opening_beside_wall_node = false;
+  // The branch a stop's node was entered by is explored only when the robot came along it
+  // (ExplorerOptions::arrival_min_travel_m; 0: always; 1.0 since session 18).
+  double arrival_min_travel_m = 1.0;
+  // The drive to a mouth's centre ends when the wheels make no progress for this long
+  // (ExplorerOptions::shift_stall_s; 0: off; 0.3 since session 18).
+  double shift_stall_s = 0.3;
+  // A probed side whose view is blind to the sonar is open only by the walls' lines (and the
+  // other non-sonar rules) (ExplorerOptions::blind_side_needs_lines; on since session 18).
+  bool blind_side_lines = true;
+  // The walls' lines' base points within this range are remembered with the sonar's
+  // (ExplorerOptions::wall_line_memory_m; 0: off).
+  double wall_line_memory_m = 0.0;
+  // In a blind view, sonar columns whose bottom the walls' lines' frame shows smooth stay
+  // blocked near (ExplorerOptions::blind_texture_ratio; 0: off).
+  double blind_texture_ratio = 0.0;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -97,6 +112,11 @@ struct ExplorerVariants {
     ro.explorer.mouth_wall_line = mouth_wall_line;
     ro.explorer.wall_line_align = wall_line_align;
     ro.explorer.opening_beside_wall_node = opening_beside_wall_node;
+    ro.explorer.arrival_min_travel_m = arrival_min_travel_m;
+    ro.explorer.shift_stall_s = shift_stall_s;
+    ro.explorer.blind_side_needs_lines = blind_side_lines;
+    ro.explorer.wall_line_memory_m = wall_line_memory_m;
+    ro.explorer.blind_texture_ratio = blind_texture_ratio;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -141,6 +161,24 @@ struct ExplorerVariants {
                   text("With --wall-lines: their frames are also taken while scanning and aligning at a standstill, and their heading modulo 90 degrees sets the axis there (off by default; docs/explore.md, session 17)"));
     cmd->add_flag("--opening-beside-wall-node,!--no-opening-beside-wall-node", opening_beside_wall_node,
                   text("An opening found more than 0.8 m from a known junction whose side there was judged a wall is looked at as a new opening instead of being passed (off by default; docs/explore.md, session 17)"));
+    cmd->add_option("--arrival-min-travel", arrival_min_travel_m,
+                    text("A stop's node records the branch the robot came in by as explored only when it departed from a node or has driven this far (metres) since setting off: a robot that starts in a junction has not driven the corridor behind it (0: always; 1.0 by default since session 18; docs/explore.md, session 18)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 10.0));
+    cmd->add_option("--shift-stall", shift_stall_s,
+                    text("The drive to a side branch's mouth centre ends where the wheels make no progress for this long (seconds), a wall the sonar cannot see from up close, and the robot turns from there (0: only the drive's time limit; 0.3 by default since session 18; docs/explore.md, session 18)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 5.0));
+    cmd->add_flag("--blind-side-lines,!--no-blind-side-lines", blind_side_lines,
+                  text("Probing, a side whose sonar view is blind (nearly all columns blocked near, read as unknown because the glance looks like a corridor) is not open by the sonar's free travel, only by the walls' lines, the remembered points at an end or the entropy rule on an opening found while following: a door recess filling the view (on by default since session 18; docs/explore.md, session 18)"));
+    cmd->add_option("--wall-line-memory", wall_line_memory_m,
+                    text("With --wall-lines: the walls' base points on their lines within this range (metres) are remembered with the visual sonar's points, so walls of the floor's grey, which the sonar does not read, still bound the robot's free travel (0: off; docs/explore.md, session 18)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 8.0));
+    cmd->add_option("--blind-texture", blind_texture_ratio,
+                    text("With --wall-lines: in a view blind to the visual sonar (the floor and the walls of one grey) a column stays blocked near where the walls' lines' frame shows its bottom smoother than this fraction of the floor's texture: a wall within the camera's near blind range (0: off; docs/explore.md, session 18)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 0.99));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,
                   text("A break in a side wall handled as an opening (a door recess rejected, a junction) starts a new wall run, however short it was, so the next side branch along that wall is still found (on by default since session 17; docs/explore.md, sessions 16 and 17)"));
   }

@@ -79,6 +79,12 @@ std::string ExplorerOptions::Validate() const {
   if (!Positive(scan_rate_rps)) return "scan_rate_rps must be positive";
   if (!Positive(stall_window_s)) return "stall_window_s must be positive";
   if (!NonNegative(stall_min_progress_m)) return "stall_min_progress_m must be >= 0";
+  if (!NonNegative(arrival_min_travel_m)) return "arrival_min_travel_m must be >= 0";
+  if (!NonNegative(shift_stall_s)) return "shift_stall_s must be >= 0";
+  if (!NonNegative(wall_line_memory_m)) return "wall_line_memory_m must be >= 0";
+  if (!(blind_texture_ratio >= 0.0 && blind_texture_ratio < 1.0)) return "blind_texture_ratio must be in [0, 1)";
+  if (!Positive(blind_texture_min_floor)) return "blind_texture_min_floor must be positive";
+  if (!NonNegative(blind_texture_hold_s)) return "blind_texture_hold_s must be >= 0";
   if (!NonNegative(avoid_gain)) return "avoid_gain must be >= 0";
   if (!(avoid_speed_fraction > 0.0 && avoid_speed_fraction <= 1.0)) return "avoid_speed_fraction must be in (0, 1]";
   if (!Positive(avoid_hold_s)) return "avoid_hold_s must be positive";
@@ -228,8 +234,27 @@ Command Explorer::Step(const Percept& p) {
 
 void Explorer::UpdateSonar(const Percept& p) {
   view_is_wall_ = false;
+  if (opt_.wall_line_memory_m > 0.0 && p.wall_line_points != nullptr && !p.wall_line_points->empty()) {
+    line_points_odom_.clear();
+    const double r2 = opt_.wall_line_memory_m * opt_.wall_line_memory_m;
+    for (const Eigen::Vector2d& q : *p.wall_line_points)
+      if (q.squaredNorm() <= r2) line_points_odom_.push_back(p.odom_T_robot.Apply(q));
+    memory_.AddPoints(line_points_odom_, p.odom_T_robot.Translation(), p.stamp_s);
+    if (p.sonar == nullptr && sonar_seen_) memory_.Gather(p.odom_T_robot, p.stamp_s);
+  }
   if (p.sonar == nullptr) return;
   const std::vector<SonarColumn>* scan = p.sonar;
+  // The walls' lines' frame's bottom texture (blind_texture_ratio): whether sonar column i of n
+  // has a bottom as smooth as a wall's.
+  const std::vector<float>* tex = BlindTexture(p);
+  auto smooth = [&](std::size_t i, std::size_t n) {
+    const std::size_t w = tex->size();  // the lines' frame's columns over sonar column i (the same camera, scaled)
+    const std::size_t u0 = i * w / n, u1 = std::max(u0 + 1, (i + 1) * w / n);
+    double sum = 0.0;
+    for (std::size_t u = u0; u < u1; ++u) sum += (*tex)[u];
+    return sum / static_cast<double>(u1 - u0) < opt_.blind_texture_ratio * floor_texture_ref_;
+  };
+  bool blind_view = false;
   if (opt_.blind_view_entropy_ratio > 0.0 && !p.sonar->empty() && p.glance_entropy_nats) {
     int blocked = 0;
     for (const SonarColumn& c : *p.sonar) blocked += c.kind == SonarReturn::kBlockedNear ? 1 : 0;
@@ -244,24 +269,48 @@ void Explorer::UpdateSonar(const Percept& p) {
                             p.sonar_wall_lines >= opt_.blind_view_max_wall_lines;
     view_is_wall_ = view && (*p.glance_entropy_nats < threshold || wall_lines);
     if (view && !view_is_wall_) {
-      // A corridor view in the glance, no floor contrast in the sonar: no information.
+      // A corridor view in the glance, no floor contrast in the sonar: no information, except
+      // where the walls' lines' frame shows a column's bottom smooth (blind_texture_ratio).
       sonar_copy_ = *p.sonar;
-      for (SonarColumn& c : sonar_copy_)
-        if (c.kind == SonarReturn::kBlockedNear) c.kind = SonarReturn::kUnknown;
+      const std::size_t n = sonar_copy_.size();
+      for (std::size_t i = 0; i < n; ++i) {
+        SonarColumn& c = sonar_copy_[i];
+        if (c.kind != SonarReturn::kBlockedNear) continue;
+        if (tex != nullptr && smooth(i, n)) {
+          ++blind_texture_kept_;
+          continue;
+        }
+        c.kind = SonarReturn::kUnknown;
+      }
+      blind_view = true;
       scan = &sonar_copy_;
       ++blind_views_;
     }
   }
+  last_scan_blind_ = blind_view;
   memory_.Update(*scan, p.odom_T_robot, p.stamp_s, p.sonar_near_blind_m);
   // A blind view with a corridor in the glance: nothing stands within the blind range ahead, so
   // what the memory holds there (a floor-material edge taken for a wall from farther back, e.g.
   // at the mouth of default's carpeted middle corridor) goes.
-  if (scan == &sonar_copy_ && opt_.blind_view_clears) memory_.ClearUnknownRays(sonar_copy_, p.odom_T_robot, p.sonar_near_blind_m);
+  if (blind_view && opt_.blind_view_clears) memory_.ClearUnknownRays(sonar_copy_, p.odom_T_robot, p.sonar_near_blind_m);
   ClearFloorEdgeBand(p);
   memory_.Gather(p.odom_T_robot, p.stamp_s);
   sonar_seen_ = true;
   last_scan_yaw_ = p.odom_T_robot.yaw;
   last_wall_lines_ = p.sonar_wall_lines;
+}
+
+const std::vector<float>* Explorer::BlindTexture(const Percept& p) {
+  if (!(opt_.blind_texture_ratio > 0.0) || p.wall_bottom_texture == nullptr || p.wall_bottom_texture->empty()) return nullptr;
+  std::vector<float> v = *p.wall_bottom_texture;
+  const std::size_t k = (v.size() * 9) / 10;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  if (v[k] >= opt_.blind_texture_min_floor) {
+    floor_texture_ref_ = v[k];
+    floor_texture_ref_s_ = p.stamp_s;
+  }
+  if (p.stamp_s - floor_texture_ref_s_ > opt_.blind_texture_hold_s) return nullptr;
+  return p.wall_bottom_texture;
 }
 
 bool Explorer::WallAxis(double* axis_mod90) const {
@@ -920,7 +969,7 @@ Command Explorer::FollowStep(const Percept& p) {
   if (end_count_ >= opt_.end_confirm_frames) {
     ++ends_;
     last_ref_entropy_ = ReferenceEntropy();
-    node_ = map_.Arrive(map_pose_.Translation(), dir_);
+    node_ = map_.Arrive(map_pose_.Translation(), dir_, CameAlong());
     map_.SetBranch(node_, dir_, Branch::kWall);
     Emit(ExploreEvent::Kind::kEndDetected, p, 0,
          Format("end: fused distance %.2f m, entropy %.2f of reference %.2f, sonar free %.2f m (%s)", dist_end_m_,
@@ -1151,7 +1200,7 @@ bool Explorer::OnOpening(const Percept& p, int side, double width_m) {
   } else if (known_side) {
     // A junction met before whose side branch is known: pass unless the map routes into it.
     ++junctions_;
-    node_ = map_.Arrive(pos, dir_);
+    node_ = map_.Arrive(pos, dir_, CameAlong());
     if (map_.Nodes()[node_].branch[dir_] == Branch::kUnknown) map_.SetBranch(node_, dir_, Branch::kOpen);
     const int next = map_.ChooseBranch(node_, dir_);
     if (next == dir_ || next < 0) {
@@ -1165,7 +1214,7 @@ bool Explorer::OnOpening(const Percept& p, int side, double width_m) {
     return true;
   }
   ++junctions_;
-  node_ = map_.Arrive(pos, dir_);
+  node_ = map_.Arrive(pos, dir_, CameAlong());
   if (map_.Nodes()[node_].branch[dir_] == Branch::kUnknown) map_.SetBranch(node_, dir_, Branch::kOpen);
   Emit(ExploreEvent::Kind::kJunction, p, 0,
        Format("opening on the %s, %.1f m wide; ahead free %.1f m", side_name, width_m, ahead_free));
@@ -1221,7 +1270,7 @@ Command Explorer::BackOffStep(const Percept& p) {
   if (at_departure) {
     map_.CancelDeparture();  // still at the node it set off from
   } else {
-    node_ = map_.Arrive(map_pose_.Translation(), dir_);
+    node_ = map_.Arrive(map_pose_.Translation(), dir_, CameAlong());
   }
   map_.SetBranch(node_, dir_, Branch::kWall, at_departure);
   StartProbe();
@@ -1259,7 +1308,8 @@ Command Explorer::ProbeStep(const Percept& p) {
   // the mouth of a branch the sonar's blind range often holds a wall corner).
   const bool open_by_entropy = h >= opt_.open_entropy_ratio * last_ref_entropy_;
   const bool open_by_sonar = side_free_m_[probe_phase_] >= opt_.sonar_open_free_m &&
-                             h >= opt_.sonar_open_min_entropy_ratio * last_ref_entropy_;
+                             h >= opt_.sonar_open_min_entropy_ratio * last_ref_entropy_ &&
+                             !(opt_.blind_side_needs_lines && last_scan_blind_);
   // At the end of a corridor, the latest scan's blocked-near columns facing this side may be the
   // near wall of a branch whose mouth the robot stands off-centre in (an L corner reached along
   // its end wall): with end_probe_memory, a side the entropy rule calls open is open where the
@@ -1325,6 +1375,7 @@ void Explorer::StartTurnTo(const Percept& p, int dir, int turn_deg, const std::s
     shift_rot_ = Rotation{axis_yaw_odom_, 0};
     shift_aligned_ = false;
     shift_start_s_ = p.stamp_s;
+    shift_check_s_ = -1.0;
     Emit(ExploreEvent::Kind::kTurn, p, turn_deg, note + Format("; to the mouth's centre first: %+.2f m along", along));
     return;
   }
@@ -1380,6 +1431,23 @@ Command Explorer::ShiftStep(const Percept& p) {
   if (!shift_aligned_) {
     if (!Rotate(p, shift_rot_, cmd)) return cmd;
     shift_aligned_ = true;
+  }
+  // Held up where the sonar sees nothing (a wall too near for the floor in front of it to be
+  // seen): the wheels stop moving. Turn from here.
+  if (opt_.shift_stall_s > 0.0) {
+    if (shift_check_s_ < 0.0) {
+      shift_check_s_ = p.stamp_s;
+      shift_check_at_ = p.odom_T_robot.Translation();
+    } else if (p.stamp_s - shift_check_s_ >= opt_.shift_stall_s) {
+      const double moved = (p.odom_T_robot.Translation() - shift_check_at_).norm();
+      shift_check_s_ = p.stamp_s;
+      shift_check_at_ = p.odom_T_robot.Translation();
+      if (moved < 0.2 * 0.08 * opt_.shift_stall_s) {
+        Emit(ExploreEvent::Kind::kStall, p, 0, "no wheel progress toward the mouth's centre: turning from here");
+        shift_m_ = 0.0;
+        return {};
+      }
+    }
   }
   const Eigen::Vector2d d(std::cos(shift_rot_.target_yaw), std::sin(shift_rot_.target_yaw));
   const double remaining = shift_m_ - (p.odom_T_robot.Translation() - shift_from_).dot(d);

@@ -52,7 +52,7 @@ int TopoMap::FindNear(const Eigen::Vector2d& p) const {
   return best;
 }
 
-int TopoMap::Arrive(const Eigen::Vector2d& position_m, int travel_dir) {
+int TopoMap::Arrive(const Eigen::Vector2d& position_m, int travel_dir, bool came_along) {
   SQUINT_ENSURE(travel_dir >= 0 && travel_dir < 4, "travel_dir must be 0..3");
   int id = FindNear(position_m);
   if (id < 0) {
@@ -66,7 +66,7 @@ int TopoMap::Arrive(const Eigen::Vector2d& position_m, int travel_dir) {
   TopoNode& node = nodes_[id];
   ++node.arrivals;
   const int back = Opposite(travel_dir);
-  node.branch[back] = Branch::kExplored;
+  if (came_along || pending_node_ >= 0) node.branch[back] = Branch::kExplored;
   if (pending_node_ >= 0 && pending_node_ != id) {
     const double length = (position_m - pending_from_m_).norm();
     TopoNode& from = nodes_[pending_node_];

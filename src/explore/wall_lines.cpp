@@ -116,6 +116,10 @@ WallLines FindWallLines(const GrayView& image, const CameraModel& camera, const 
     return (cum[static_cast<std::size_t>(to) * w + u] - cum[static_cast<std::size_t>(from) * w + u]) / (to - from);
   };
 
+  out.bottom_texture.resize(static_cast<std::size_t>(w));
+  for (int u = 0; u < w; ++u)
+    out.bottom_texture[static_cast<std::size_t>(u)] = static_cast<float>(mean_rows(u, h - 1 - o.below_rows, h - 1));
+
   // The floor's reference texture: the median over the bottom rows (without the last, which has
   // no second difference).
   std::vector<float> ref;

@@ -146,9 +146,11 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
   std::filesystem::remove_all(dir);
 }
 
-// The explorer as it was before session 17 made the walls' lines and their companions the defaults.
+// The explorer as it was before session 17 made the walls' lines and their companions the
+// defaults (and without session 18's defaults).
 const std::string kWithoutWallLines =
-    " --no-wall-lines --no-end-probe-memory --no-wall-lines-binned --wall-line-free 0 --no-rearm-after-gap --no-mouth-wall-line";
+    " --no-wall-lines --no-end-probe-memory --no-wall-lines-binned --wall-line-free 0 --no-rearm-after-gap --no-mouth-wall-line"
+    " --arrival-min-travel 0 --shift-stall 0 --no-blind-side-lines";
 
 // --own-range-clearing (off by default), with the explorer as it was without the walls' lines
 // (session 14): obstacle-course start 1 of seed 12 sets off beside the
@@ -200,6 +202,29 @@ TEST(ExploreCli, WallLinesHoldTheAxisWhereTheWallsHaveTheFloorsGrey) {
 
 // A T met from its bar (world file): the robot must find the stem from the bar, turn into it
 // (a -90 turn near x = 12) and cover more than the bar alone (24 of 34 m) in two minutes.
+// corridor-1, seeded start 6 of seed 1: the robot starts inside the T's junction, 0.4 m from the
+// cross corridor's east wall, and stops 0.4 m on. Recording the branch behind it (the east wall)
+// as explored, the map later sends it there: it stalls against the wall, and the drive to the
+// mouth's centre that follows pushes on against it for the drive's whole time limit (232 contacts
+// by 102 s). Ending that drive when the wheels stop (--shift-stall) leaves the first stall's
+// contacts only; recording the branch behind a stop as explored only when the robot came along
+// it (--arrival-min-travel) keeps it off the wall.
+TEST(ExploreCli, AStartInAJunctionLeavesTheBranchBehindUnknownAndAStalledShiftEnds) {
+  const auto dir = TempDir("junction-start");
+  auto summary = [&](const std::string& name, const std::string& flag) {
+    return ExploreSummary(dir / name, "--world corridor-1 --seed 1 --eval-start 6 --minutes 1.7" + flag);
+  };
+  const nlohmann::json before = summary("before", " --arrival-min-travel 0 --shift-stall 0");
+  EXPECT_GT(before["collisions"].get<long>(), 150);
+  EXPECT_EQ(before["first_hit"].get<std::string>(), "wall");
+  const nlohmann::json shift_stall = summary("shift-stall", " --arrival-min-travel 0");
+  EXPECT_GT(shift_stall["collisions"].get<long>(), 0);
+  EXPECT_LT(shift_stall["collisions"].get<long>(), 80);
+  const nlohmann::json defaults = summary("defaults", "");
+  EXPECT_EQ(defaults["collisions"].get<long>(), 0);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(ExploreCli, TakesTheSideBranchOfATMetFromItsBar) {
   const auto out = TempDir("tee");
   std::filesystem::create_directories(out.parent_path());

@@ -341,6 +341,10 @@ struct ToyPlan {
   // the first wall (floor edges do not end the floor's texture), at most 8 m.
   bool wall_lines = false;
   double glance_bias_deg = 0.0;  // the glance's heading reads this much too far left (a carpeted corridor's)
+  // The walls' lines' frame's bottom texture with each scan (128 columns over the sonar's view):
+  // smooth where the column's ray meets a wall within the blind range, the floor's texture elsewhere.
+  bool bottom_texture = false;
+  std::vector<float> texture;
   static constexpr double kBlind = 1.2;
 
   // Distance along a ray to the first wall (a large number when none); that wall in *hit.
@@ -404,6 +408,14 @@ struct ToyPlan {
       }
       p.sonar = &scan;
       p.sonar_near_blind_m = kBlind;
+      if (bottom_texture) {
+        texture.resize(128);
+        for (int u = 0; u < 128; ++u) {
+          const double bearing = DegToRad(30.0 - 60.0 * (u + 0.5) / 128.0);
+          texture[static_cast<std::size_t>(u)] = Ray(pose.x, pose.y, pose.yaw + bearing) < kBlind ? 0.5f : 8.0f;
+        }
+        p.wall_bottom_texture = &texture;
+      }
       if (wall_lines) {
         p.wall_line_heading_deg = heading_deg;
         p.wall_line_corridor_ahead_m = std::min(8.0, Ray(pose.x, pose.y, pose.yaw));
@@ -752,6 +764,37 @@ TEST(Explorer, WithoutBranchDetectionTheSideBranchIsPassed) {
 // the blind range. The explorer reads such views as no information and drives on by the corridor
 // cues; at the end wall the glance's entropy drops, the blockage counts, and it stops without
 // touching the wall. With the rule off the robot never gets going.
+// A robot started 0.4 m from a wall of the floor's grey (every sonar column blocked near, read as
+// unknown in a corridor view), its glance reading it 5° off the axis where it is 13° off, toward
+// that wall: it sets off into the wall. Where the walls' lines' frame shows the columns facing
+// the wall smooth at the bottom (blind_texture_ratio), they stay blocked near and it does not.
+TEST(Explorer, BlindViewColumnsWithASmoothBottomStayBlocked) {
+  for (const double ratio : {0.0, 0.35}) {
+    SCOPED_TRACE(ratio);
+    ToyPlan world;
+    world.walls = {{-1, 1, 20, 1}, {-1, -1, 20, -1}, {-1, -1, -1, 1}, {20, -1, 20, 1}};
+    world.pose = {1.0, 0.6, DegToRad(13.0)};
+    world.blind_floor = true;
+    world.bottom_texture = true;
+    world.glance_bias_deg = -8.0;
+    ExplorerOptions o;
+    o.blind_texture_ratio = ratio;
+    Explorer explorer(o);
+    double nearest = 1e9;
+    for (int i = 0; i < 30 * 20; ++i) {
+      world.Apply(explorer.Step(world.Perceive()));
+      for (double a = -kPi; a < kPi; a += kPi / 36) nearest = std::min(nearest, world.Ray(world.pose.x, world.pose.y, a));
+    }
+    if (ratio > 0.0) {
+      EXPECT_GT(nearest, 0.25);
+      EXPECT_GT(explorer.BlindTextureColumns(), 0);
+    } else {
+      EXPECT_LT(nearest, 0.25);
+      EXPECT_EQ(explorer.BlindTextureColumns(), 0);
+    }
+  }
+}
+
 TEST(Explorer, SonarBlindCorridorIsDrivenByTheGlanceAndTheEndWallStillStops) {
   for (const bool rule : {true, false}) {
     ToyPlan world;
@@ -1091,6 +1134,12 @@ TEST(Explorer, OptionsValidateNamesTheField) {
   o = {};
   o.filtered_axis_gain = 1.5;
   EXPECT_NE(o.Validate().find("filtered_axis_gain"), std::string::npos);
+  o = {};
+  o.arrival_min_travel_m = -1.0;
+  EXPECT_NE(o.Validate().find("arrival_min_travel_m"), std::string::npos);
+  o = {};
+  o.shift_stall_s = -0.1;
+  EXPECT_NE(o.Validate().find("shift_stall_s"), std::string::npos);
 }
 
 }  // namespace

@@ -104,6 +104,22 @@ TEST(TopoMap, ExploredBranchStaysExplored) {
   EXPECT_EQ(map.Nodes()[n].branch[2], Branch::kExplored);
 }
 
+// A robot that starts in a junction and stops there has not come along the branch behind it;
+// one that departed from a node has, however short the way.
+TEST(TopoMap, BranchBehindIsExploredOnlyWhenTheRobotCameAlongIt) {
+  TopoMap map;
+  const int n = map.Arrive({0.0, 0.0}, 2, /*came_along=*/false);
+  EXPECT_EQ(map.Nodes()[n].branch[0], Branch::kUnknown);
+  EXPECT_EQ(map.Nodes()[n].branch[2], Branch::kUnknown);
+  map.SetBranch(n, 0, Branch::kWall);
+  map.Depart(n, 1);
+  const int m = map.Arrive({0.0, 5.0}, 1, /*came_along=*/false);
+  EXPECT_NE(m, n);
+  EXPECT_EQ(map.Nodes()[m].branch[3], Branch::kExplored);
+  EXPECT_EQ(map.Nodes()[m].neighbour[3], n);
+  EXPECT_EQ(map.Nodes()[n].branch[0], Branch::kWall);  // what was known stays
+}
+
 TEST(TopoMap, PatrolPrefersLeastRecentlyTaken) {
   TopoMap map;
   const int n = map.Arrive({0.0, 0.0}, 0);

@@ -111,6 +111,40 @@ TEST(WallLines, CorridorAheadEndsAtAFootAcrossIt) {
   EXPECT_EQ(one.corridor_ahead_m, 0.0);
 }
 
+// The robot 0.5 m from the left wall, heading 20° toward it (the walls run 20° to the right):
+// the wall stands within the bottom row's floor range on the left half of the view. The columns whose bottom rows see the
+// wall are smooth there, those whose bottom rows see the floor carry its texture.
+TEST(WallLines, BottomTextureIsSmoothWhereAWallStandsNearerThanTheBottomRow) {
+  const CameraModel cam = Camera128();
+  const auto img = Draw(cam, -20.0, 0.5, 2.0);
+  const WallLines w = FindWallLines(View(cam, img), cam);
+  ASSERT_EQ(static_cast<int>(w.bottom_texture.size()), cam.width);
+  const double t = DegToRad(-20.0);
+  const Eigen::Vector2d normal(-std::sin(t), std::cos(t));
+  int walls = 0, floors = 0;
+  for (int u = 1; u + 1 < cam.width; ++u) {
+    // The column's bottom rows used (the last row has no second difference), and its neighbours.
+    bool all_wall = true, all_floor = true;
+    for (int du = -1; du <= 1; ++du)
+      for (int v = cam.height - 2 - WallLineOptions{}.below_rows; v < cam.height; ++v) {
+        const auto q = cam.FloorPoint({static_cast<double>(u + du), static_cast<double>(v)});
+        const bool wall = !q || normal.dot(*q) >= 0.5;
+        all_wall = all_wall && wall;
+        all_floor = all_floor && !wall;
+      }
+    const float tex = w.bottom_texture[static_cast<std::size_t>(u)];
+    if (all_wall) {
+      ++walls;
+      EXPECT_LT(tex, 0.5f) << u;
+    } else if (all_floor) {
+      ++floors;
+      EXPECT_GT(tex, 5.0f) << u;
+    }
+  }
+  EXPECT_GT(walls, 20);
+  EXPECT_GT(floors, 20);
+}
+
 TEST(WallLines, HeadingIsTakenModuloNinetyDegrees) {
   WallLines w;
   w.direction_rad = DegToRad(80.0);  // an end wall's line seen with the robot turned 10° right of the axis

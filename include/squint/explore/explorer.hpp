@@ -261,6 +261,29 @@ struct ExplorerOptions {
   double blind_view_fraction = 0.75;
   double blind_view_entropy_ratio = 0.85;
   bool blind_view_clears = true;  // such a view also clears the memory along its rays out to the blind range
+  // Probing, a side whose latest scan was such a blind view read as unknown is not open by the
+  // sonar's free travel (which then rests on no floor seen at all: a door recess within the blind
+  // range whose door has the glance entropy of a corridor, corridor-5), only by the walls' lines,
+  // the remembered points at a corridor's end, or the entropy rule on a side the sonar showed
+  // open while following. Off: `squint explore --no-blind-side-lines`; on since session 18.
+  bool blind_side_needs_lines = true;
+  // The walls' base points on their lines (Percept::wall_line_points) within this range (metres)
+  // are remembered with the sonar's points: where the walls have the floor's grey the sonar reads
+  // no wall at all, and a robot started close to one, heading into it, meets it before the axis
+  // is corrected (corridor-2). 0 turns it off (`squint explore --wall-line-memory 0`).
+  double wall_line_memory_m = 0.0;
+  // In a blind view read as unknown (blind_view_entropy_ratio), a blocked-near sonar column stays
+  // blocked near where the walls' lines' frame shows its bottom smooth: that column's mean bottom
+  // texture (Percept::wall_bottom_texture) below this fraction of the floor's (the frame's 90th
+  // percentile over its columns when at least blind_texture_min_floor grey levels, else the last
+  // such reference within blind_texture_hold_s). A panel of the carpet's grey within the blind
+  // range is smooth, the carpet is not (corridor-2: a robot started close to a wall, heading
+  // into it). Only in blind views: the sonar's own unknown columns are left alone, since on a
+  // tiled floor a column's bottom rows often lie within one smooth tile (`default`, 45 minutes:
+  // false ends all along the west corridor). 0 turns it off (`squint explore --blind-texture 0`).
+  double blind_texture_ratio = 0.0;
+  double blind_texture_min_floor = 2.0;
+  double blind_texture_hold_s = 10.0;
   // A blind view whose sonar frame shows periodic horizontal lines in at least this fraction of
   // its column bands (Percept::sonar_wall_lines: a brick wall's mortar, which keeps the glance
   // entropy at corridor level) reads as a wall whatever its entropy, while following (turning in
@@ -333,6 +356,15 @@ struct ExplorerOptions {
   // corner metres before the real one, otherwise sends the robot back into the wall's end).
   // On by default (`squint explore --no-mouth-wall-line`; docs/explore.md, session 17).
   bool mouth_wall_line = true;
+  // A stop's node marks the branch the robot came in by as explored only when it came along it:
+  // it departed from a node, or it has driven at least this far since it set off (a robot that
+  // starts in a junction has not driven the corridor behind it, which may be a wall). 0 marks it
+  // always (`squint explore --arrival-min-travel 0`); 1.0 since session 18 (docs/explore.md).
+  double arrival_min_travel_m = 1.0;
+  // The drive to a mouth's centre ends where the wheels made no progress for this long (a wall
+  // the sonar cannot see from up close), and the robot turns from there. 0: only the drive's time
+  // limit ends it (`squint explore --shift-stall 0`); 0.3 since session 18 (docs/explore.md).
+  double shift_stall_s = 0.3;
   ObstacleMemoryOptions memory;
   TopoMapOptions map;
 
@@ -422,6 +454,8 @@ class Explorer {
   int ObstacleStops() const { return avoid_stops_; }
   // Sonar scans whose blocked-near view was read as unknown (blind_view_entropy_ratio).
   long BlindViews() const { return blind_views_; }
+  // Sonar columns read blocked near from the walls' lines' frame's smooth bottom (blind_texture_ratio).
+  long BlindTextureColumns() const { return blind_texture_kept_; }
 
  private:
   struct Rotation {
@@ -531,6 +565,13 @@ class Explorer {
   std::optional<double> WallLineAxisDiff(const Percept& p) const;
   void NoteWallLinesAhead(const Percept& p);
   bool WallLinesFree(const Percept& p, double yaw) const;
+  // The walls' lines' frame's bottom texture per column when blind_texture_ratio applies (it
+  // updates the floor's reference), else null.
+  const std::vector<float>* BlindTexture(const Percept& p);
+  // Whether the robot came along the corridor it is in (ExplorerOptions::arrival_min_travel_m).
+  bool CameAlong() const {
+    return opt_.arrival_min_travel_m <= 0.0 || travel_in_corridor_m_ >= opt_.arrival_min_travel_m;
+  }
   void UpdateWallLines(const Percept& p);
   bool WallLinesHold(double stamp_s) const;
   bool probe_at_end_ = false;  // the probe under way was started by the end of a corridor (StartProbe)
@@ -608,6 +649,13 @@ class Explorer {
   Rotation shift_rot_;
   bool shift_aligned_ = false;
   double shift_start_s_ = 0.0;
+  bool last_scan_blind_ = false;
+  double floor_texture_ref_ = 0.0;      // the floor's bottom texture in the walls' lines' frame (blind_texture_ratio)
+  double floor_texture_ref_s_ = -1e9;   // when it was last measured
+  long blind_texture_kept_ = 0;         // blocked-near columns kept so in blind views
+  std::vector<Eigen::Vector2d> line_points_odom_;  // the walls' lines' points of this step, odometry frame  // the latest sonar scan was a blind view read as unknown
+  double shift_check_s_ = 0.0;              // start of the drive's current progress window
+  Eigen::Vector2d shift_check_at_ = Eigen::Vector2d::Zero();  // odometry position there
   double last_wall_m_[2] = {-1.0, -1.0};  // the last abeam wall distance per side in this corridor
   Eigen::Vector2d last_wall_at_[2] = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};  // odometry position of that reading
 

@@ -48,8 +48,9 @@ class TopoMap {
 
   // The robot stopped at `position_m` after travelling along direction `travel_dir`. Returns the
   // node (new, or an existing one within merge_radius_m); links it with the node the robot last
-  // departed from and marks the branch it came in by as explored.
-  int Arrive(const Eigen::Vector2d& position_m, int travel_dir);
+  // departed from and marks the branch it came in by as explored. `came_along` false: the robot
+  // did not come in along that branch (it started here, facing that way), which stays as it was.
+  int Arrive(const Eigen::Vector2d& position_m, int travel_dir, bool came_along = true);
   // What looking (or bumping) told about a branch. An explored branch stays explored unless
   // `force` (the robot found it blocked right after setting off along it).
   void SetBranch(int node, int dir, Branch state, bool force = false);

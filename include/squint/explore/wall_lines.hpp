@@ -67,6 +67,11 @@ struct WallLines {
   // the foot_points-th nearest point there on neither line), max_range_m if none; 0 otherwise.
   // The floor's texture shows the corridor free that far, whatever its grey-level contrast.
   double corridor_ahead_m = 0.0;
+  // Each column's mean texture over the frame's bottom below_rows rows (grey levels, the second
+  // difference's magnitude as the base search uses it), whether or not lines were found: a column
+  // whose bottom is as smooth as a wall sees something standing nearer than the floor at the
+  // frame's bottom (where wall and floor have one grey, the visual sonar cannot tell).
+  std::vector<float> bottom_texture;
   // The robot's heading relative to the lines modulo 90°, in [−45°, 45°), left positive:
   // −direction (a Manhattan building's walls are parallel or perpendicular to the corridor's axis).
   double HeadingDeg() const;
