@@ -86,9 +86,6 @@ struct ExplorerVariants {
   // A probed side whose view is blind to the sonar is open only by the walls' lines (and the
   // other non-sonar rules) (ExplorerOptions::blind_side_needs_lines; on since session 18).
   bool blind_side_lines = true;
-  // The walls' lines' base points within this range are remembered with the sonar's
-  // (ExplorerOptions::wall_line_memory_m; 0: off).
-  double wall_line_memory_m = 0.0;
   // In a blind view, sonar columns whose bottom the walls' lines' frame shows smooth stay
   // blocked near (ExplorerOptions::blind_texture_ratio; 0: off).
   double blind_texture_ratio = 0.0;
@@ -115,7 +112,6 @@ struct ExplorerVariants {
     ro.explorer.arrival_min_travel_m = arrival_min_travel_m;
     ro.explorer.shift_stall_s = shift_stall_s;
     ro.explorer.blind_side_needs_lines = blind_side_lines;
-    ro.explorer.wall_line_memory_m = wall_line_memory_m;
     ro.explorer.blind_texture_ratio = blind_texture_ratio;
   }
 
@@ -171,10 +167,6 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 5.0));
     cmd->add_flag("--blind-side-lines,!--no-blind-side-lines", blind_side_lines,
                   text("Probing, a side whose sonar view is blind (nearly all columns blocked near, read as unknown because the glance looks like a corridor) is not open by the sonar's free travel, only by the walls' lines, the remembered points at an end or the entropy rule on an opening found while following: a door recess filling the view (on by default since session 18; docs/explore.md, session 18)"));
-    cmd->add_option("--wall-line-memory", wall_line_memory_m,
-                    text("With --wall-lines: the walls' base points on their lines within this range (metres) are remembered with the visual sonar's points, so walls of the floor's grey, which the sonar does not read, still bound the robot's free travel (0: off; docs/explore.md, session 18)"))
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 8.0));
     cmd->add_option("--blind-texture", blind_texture_ratio,
                     text("With --wall-lines: in a view blind to the visual sonar (the floor and the walls of one grey) a column stays blocked near where the walls' lines' frame shows its bottom smoother than this fraction of the floor's texture: a wall within the camera's near blind range (0: off; docs/explore.md, session 18)"))
         ->capture_default_str()

@@ -141,7 +141,6 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   std::optional<sim::Renderer> wall_renderer;
   std::optional<CameraModel> wall_camera;
   cv::Mat wall_image, wall_fine;
-  std::vector<Eigen::Vector2d> wall_base_points, wall_line_points;  // the walls' lines' points (ExplorerOptions::wall_line_memory_m)
   std::vector<float> wall_bottom_texture;  // the walls' lines' frame's bottom texture per column
   if (options.explorer.wall_line_axis_gain > 0.0) {
     const CameraModel wc = BelowHorizon(world.camera.Model().Scaled(options.wall_lines_width, options.wall_lines_height));
@@ -276,23 +275,9 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
         wall_renderer->Render(world_T_robot, wv, nullptr, 0, nullptr, 0, static_cast<std::uint64_t>(f));
         cpu4 = ThreadCpuSeconds();
       }
-      const bool want_points = options.explorer.wall_line_memory_m > 0.0;
-      const explore::WallLines wl =
-          explore::FindWallLines(wv, *wall_camera, options.wall_lines, want_points ? &wall_base_points : nullptr);
+      const explore::WallLines wl = explore::FindWallLines(wv, *wall_camera, options.wall_lines);
       wall_bottom_texture = wl.bottom_texture;
       p.wall_bottom_texture = &wall_bottom_texture;
-      wall_line_points.clear();
-      if (wl.valid && want_points) {
-        // The base points on the two lines (the memory's extra wall points).
-        const Eigen::Vector2d left(-std::sin(wl.direction_rad), std::cos(wl.direction_rad));
-        for (const Eigen::Vector2d& q : wall_base_points) {
-          const double across = left.dot(q);
-          if (std::abs(across - wl.offset_m) < options.wall_lines.inlier_m ||
-              (wl.parallel_inliers > 0 && std::abs(across - wl.parallel_offset_m) < options.wall_lines.inlier_m))
-            wall_line_points.push_back(q);
-        }
-        p.wall_line_points = &wall_line_points;
-      }
       perception_cpu += ThreadCpuSeconds() - cpu4;
       if (wl.valid) p.wall_line_heading_deg = wl.HeadingDeg();
       p.wall_line_corridor_ahead_m = wl.valid ? wl.corridor_ahead_m : 0.0;

@@ -81,7 +81,6 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(stall_min_progress_m)) return "stall_min_progress_m must be >= 0";
   if (!NonNegative(arrival_min_travel_m)) return "arrival_min_travel_m must be >= 0";
   if (!NonNegative(shift_stall_s)) return "shift_stall_s must be >= 0";
-  if (!NonNegative(wall_line_memory_m)) return "wall_line_memory_m must be >= 0";
   if (!(blind_texture_ratio >= 0.0 && blind_texture_ratio < 1.0)) return "blind_texture_ratio must be in [0, 1)";
   if (!Positive(blind_texture_min_floor)) return "blind_texture_min_floor must be positive";
   if (!NonNegative(blind_texture_hold_s)) return "blind_texture_hold_s must be >= 0";
@@ -234,14 +233,6 @@ Command Explorer::Step(const Percept& p) {
 
 void Explorer::UpdateSonar(const Percept& p) {
   view_is_wall_ = false;
-  if (opt_.wall_line_memory_m > 0.0 && p.wall_line_points != nullptr && !p.wall_line_points->empty()) {
-    line_points_odom_.clear();
-    const double r2 = opt_.wall_line_memory_m * opt_.wall_line_memory_m;
-    for (const Eigen::Vector2d& q : *p.wall_line_points)
-      if (q.squaredNorm() <= r2) line_points_odom_.push_back(p.odom_T_robot.Apply(q));
-    memory_.AddPoints(line_points_odom_, p.odom_T_robot.Translation(), p.stamp_s);
-    if (p.sonar == nullptr && sonar_seen_) memory_.Gather(p.odom_T_robot, p.stamp_s);
-  }
   if (p.sonar == nullptr) return;
   const std::vector<SonarColumn>* scan = p.sonar;
   // The walls' lines' frame's bottom texture (blind_texture_ratio): whether sonar column i of n

@@ -75,10 +75,6 @@ void ObstacleMemory::Insert(const Eigen::Vector2d& p, const Eigen::Vector2d& fro
   c.soft = false;
 }
 
-void ObstacleMemory::AddPoints(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& from, double stamp_s) {
-  for (const Eigen::Vector2d& q : points) Insert(q, from, stamp_s);
-}
-
 void ObstacleMemory::InsertBlindRay(const Eigen::Vector2d& origin, double yaw, double to_m, double stamp_s) {
   if (!(options_.blind_points_from_m > 0.0)) return;
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));

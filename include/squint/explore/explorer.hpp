@@ -267,11 +267,6 @@ struct ExplorerOptions {
   // the remembered points at a corridor's end, or the entropy rule on a side the sonar showed
   // open while following. Off: `squint explore --no-blind-side-lines`; on since session 18.
   bool blind_side_needs_lines = true;
-  // The walls' base points on their lines (Percept::wall_line_points) within this range (metres)
-  // are remembered with the sonar's points: where the walls have the floor's grey the sonar reads
-  // no wall at all, and a robot started close to one, heading into it, meets it before the axis
-  // is corrected (corridor-2). 0 turns it off (`squint explore --wall-line-memory 0`).
-  double wall_line_memory_m = 0.0;
   // In a blind view read as unknown (blind_view_entropy_ratio), a blocked-near sonar column stays
   // blocked near where the walls' lines' frame shows its bottom smooth: that column's mean bottom
   // texture (Percept::wall_bottom_texture) below this fraction of the floor's (the frame's 90th
@@ -652,8 +647,7 @@ class Explorer {
   bool last_scan_blind_ = false;
   double floor_texture_ref_ = 0.0;      // the floor's bottom texture in the walls' lines' frame (blind_texture_ratio)
   double floor_texture_ref_s_ = -1e9;   // when it was last measured
-  long blind_texture_kept_ = 0;         // blocked-near columns kept so in blind views
-  std::vector<Eigen::Vector2d> line_points_odom_;  // the walls' lines' points of this step, odometry frame  // the latest sonar scan was a blind view read as unknown
+  long blind_texture_kept_ = 0;         // blocked-near columns kept so in blind views  // the latest sonar scan was a blind view read as unknown
   double shift_check_s_ = 0.0;              // start of the drive's current progress window
   Eigen::Vector2d shift_check_at_ = Eigen::Vector2d::Zero();  // odometry position there
   double last_wall_m_[2] = {-1.0, -1.0};  // the last abeam wall distance per side in this corridor

@@ -66,10 +66,6 @@ class ObstacleMemory {
   // One sonar scan taken at odom_T_robot: clears what the floor seen proves free, stores the
   // boundaries and near blockages. `near_blind_m`: the sonar's blind range.
   void Update(const std::vector<SonarColumn>& scan, const Pose2& odom_T_robot, double stamp_s, double near_blind_m);
-  // Points found standing on the floor by other means than the sonar (the walls' base lines from
-  // the floor's texture: odometry frame, seen from `from`), remembered as the sonar's boundaries
-  // are (later floor seen beyond them removes them as it removes those).
-  void AddPoints(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& from, double stamp_s);
   // Collects the remembered points within the query radius of `odom_T_robot` (call once after
   // the robot moved, before the queries below).
   void Gather(const Pose2& odom_T_robot, double stamp_s);

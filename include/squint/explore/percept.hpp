@@ -6,8 +6,6 @@
 #include <optional>
 #include <vector>
 
-#include <Eigen/Core>
-
 #include "squint/core/pose.hpp"
 #include "squint/explore/visual_sonar.hpp"
 
@@ -50,9 +48,6 @@ struct Percept {
   // ...and, when both walls' lines were found with the robot between them, how far ahead they
   // show the corridor free (WallLines::corridor_ahead_m, metres).
   std::optional<double> wall_line_corridor_ahead_m;
-  // ...and the base points on the walls' lines (robot frame, x forward, y left, metres), when
-  // the lines were found; valid during Step() only.
-  const std::vector<Eigen::Vector2d>* wall_line_points = nullptr;
   // ...and, whenever a frame for them was taken, each of its columns' texture at the frame's
   // bottom (WallLines::bottom_texture, left to right across the camera's view); valid during Step() only.
   const std::vector<float>* wall_bottom_texture = nullptr;
