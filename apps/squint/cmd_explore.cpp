@@ -89,6 +89,8 @@ struct ExplorerVariants {
   // In a blind view, sonar columns whose bottom the walls' lines' frame shows smooth stay
   // blocked near (ExplorerOptions::blind_texture_ratio; 0: off).
   double blind_texture_ratio = 0.0;
+  // The start's look scans all around where the sonar's view is blind (ExplorerOptions::scan_blind_start).
+  bool scan_blind_start = false;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -113,6 +115,7 @@ struct ExplorerVariants {
     ro.explorer.shift_stall_s = shift_stall_s;
     ro.explorer.blind_side_needs_lines = blind_side_lines;
     ro.explorer.blind_texture_ratio = blind_texture_ratio;
+    ro.explorer.scan_blind_start = scan_blind_start;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -171,6 +174,8 @@ struct ExplorerVariants {
                     text("With --wall-lines: in a view blind to the visual sonar (the floor and the walls of one grey) a column stays blocked near where the walls' lines' frame shows its bottom smoother than this fraction of the floor's texture: a wall within the camera's near blind range (0: off; docs/explore.md, session 18)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 0.99));
+    cmd->add_flag("--scan-blind-start,!--no-scan-blind-start", scan_blind_start,
+                  text("At the start, a view blind to the visual sonar (nearly all columns blocked near) is not taken for a corridor whatever the glance says: the robot looks all around first (off by default; docs/explore.md, session 18)"));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,
                   text("A break in a side wall handled as an opening (a door recess rejected, a junction) starts a new wall run, however short it was, so the next side branch along that wall is still found (on by default since session 17; docs/explore.md, sessions 16 and 17)"));
   }

@@ -226,7 +226,9 @@ Command Explorer::Step(const Percept& p) {
     case ExploreState::kBackOff: cmd = BackOffStep(p); break;
     case ExploreState::kAlign: cmd = AlignStep(p); break;
   }
-  return Guard(p, cmd);
+  last_cmd_ = Guard(p, cmd);
+  last_cmd_s_ = p.stamp_s;
+  return last_cmd_;
 }
 
 // --- Visual sonar -------------------------------------------------------------------------------
@@ -604,7 +606,7 @@ Command Explorer::AlignStep(const Percept& p) {
     start_checked_ = true;
     const double mean_entropy = start_entropy_n_ > 0 ? start_entropy_sum_ / start_entropy_n_ : 0.0;
     if (!enough || mean_entropy < opt_.start_corridor_entropy_nats || spread > opt_.start_max_spread_deg ||
-        std::abs(median) > opt_.axis_outlier_deg) {
+        std::abs(median) > opt_.axis_outlier_deg || (opt_.scan_blind_start && last_scan_blind_)) {
       state_ = ExploreState::kScan;  // not a corridor view: turn around in place and look
       ClearAlignSamples();
       return {};
@@ -1424,16 +1426,20 @@ Command Explorer::ShiftStep(const Percept& p) {
     shift_aligned_ = true;
   }
   // Held up where the sonar sees nothing (a wall too near for the floor in front of it to be
-  // seen): the wheels stop moving. Turn from here.
+  // seen): the wheels stop moving while the guard lets the robot drive. Turn from here. (Where
+  // the guard stops it, the drive's time limit applies.)
   if (opt_.shift_stall_s > 0.0) {
-    if (shift_check_s_ < 0.0) {
-      shift_check_s_ = p.stamp_s;
+    const bool driving = last_cmd_s_ >= 0.0 && std::abs(last_cmd_.v_mps) >= 0.05;
+    if (!driving) {
+      shift_check_s_ = -1.0;
+    } else if (shift_check_s_ < 0.0) {
+      shift_check_s_ = last_cmd_s_;
       shift_check_at_ = p.odom_T_robot.Translation();
     } else if (p.stamp_s - shift_check_s_ >= opt_.shift_stall_s) {
       const double moved = (p.odom_T_robot.Translation() - shift_check_at_).norm();
       shift_check_s_ = p.stamp_s;
       shift_check_at_ = p.odom_T_robot.Translation();
-      if (moved < 0.2 * 0.08 * opt_.shift_stall_s) {
+      if (moved < 0.2 * 0.05 * opt_.shift_stall_s) {
         Emit(ExploreEvent::Kind::kStall, p, 0, "no wheel progress toward the mouth's centre: turning from here");
         shift_m_ = 0.0;
         return {};

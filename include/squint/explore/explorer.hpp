@@ -108,6 +108,10 @@ struct ExplorerOptions {
   // (a view down a corridor; views of a wall are far lower) and the fused headings agree, it
   // aligns and sets off without the scan, which near corners can lock onto a diagonal view.
   double start_corridor_entropy_nats = 2.7;
+  // ...nor where the sonar's view at the start is blind (nearly all columns blocked near, read as
+  // unknown because the glance looks like a corridor): a wall of the corridor's entropy within
+  // the blind range passes the glance's tests (`default`, a start 0.5 m from a wall with a door
+  // frame in view). Off: `squint explore --no-scan-blind-start`.
   double start_max_spread_deg = 6.0;
   // Stall guard from odometry alone: commanded forward but the wheels did not move.
   double stall_window_s = 1.0;
@@ -267,6 +271,7 @@ struct ExplorerOptions {
   // the remembered points at a corridor's end, or the entropy rule on a side the sonar showed
   // open while following. Off: `squint explore --no-blind-side-lines`; on since session 18.
   bool blind_side_needs_lines = true;
+  bool scan_blind_start = false;  // see start_corridor_entropy_nats
   // In a blind view read as unknown (blind_view_entropy_ratio), a blocked-near sonar column stays
   // blocked near where the walls' lines' frame shows its bottom smooth: that column's mean bottom
   // texture (Percept::wall_bottom_texture) below this fraction of the floor's (the frame's 90th
@@ -648,7 +653,9 @@ class Explorer {
   double floor_texture_ref_ = 0.0;      // the floor's bottom texture in the walls' lines' frame (blind_texture_ratio)
   double floor_texture_ref_s_ = -1e9;   // when it was last measured
   long blind_texture_kept_ = 0;         // blocked-near columns kept so in blind views  // the latest sonar scan was a blind view read as unknown
-  double shift_check_s_ = 0.0;              // start of the drive's current progress window
+  double shift_check_s_ = 0.0;              // start of the drive's current progress window (< 0: none)
+  Command last_cmd_;                        // the previous step's command, after the guard
+  double last_cmd_s_ = -1.0;                // its stamp
   Eigen::Vector2d shift_check_at_ = Eigen::Vector2d::Zero();  // odometry position there
   double last_wall_m_[2] = {-1.0, -1.0};  // the last abeam wall distance per side in this corridor
   Eigen::Vector2d last_wall_at_[2] = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};  // odometry position of that reading
