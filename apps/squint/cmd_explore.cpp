@@ -91,6 +91,8 @@ struct ExplorerVariants {
   double blind_texture_ratio = 0.0;
   // The start's look scans all around where the sonar's view is blind (ExplorerOptions::scan_blind_start).
   bool scan_blind_start = false;
+  // With --blind-texture, also the sonar's own unknown columns (ExplorerOptions::blind_texture_unknown).
+  bool blind_texture_unknown = true;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -116,6 +118,7 @@ struct ExplorerVariants {
     ro.explorer.blind_side_needs_lines = blind_side_lines;
     ro.explorer.blind_texture_ratio = blind_texture_ratio;
     ro.explorer.scan_blind_start = scan_blind_start;
+    ro.explorer.blind_texture_unknown = blind_texture_unknown;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -174,6 +177,8 @@ struct ExplorerVariants {
                     text("With --wall-lines: in a view blind to the visual sonar (the floor and the walls of one grey) a column stays blocked near where the walls' lines' frame shows its bottom smoother than this fraction of the floor's texture: a wall within the camera's near blind range (0: off; docs/explore.md, session 18)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 0.99));
+    cmd->add_flag("--blind-texture-unknown,!--no-blind-texture-unknown", blind_texture_unknown,
+                  text("With --blind-texture: outside blind views too, a column the sonar reads unknown stays blocked near where its bottom is smooth, if every column the sonar shows floor in is textured at the bottom (on by default; docs/explore.md, session 18)"));
     cmd->add_flag("--scan-blind-start,!--no-scan-blind-start", scan_blind_start,
                   text("At the start, a view blind to the visual sonar (nearly all columns blocked near) is not taken for a corridor whatever the glance says: the robot looks all around first (off by default; docs/explore.md, session 18)"));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,

@@ -84,6 +84,7 @@ std::string ExplorerOptions::Validate() const {
   if (!(blind_texture_ratio >= 0.0 && blind_texture_ratio < 1.0)) return "blind_texture_ratio must be in [0, 1)";
   if (!Positive(blind_texture_min_floor)) return "blind_texture_min_floor must be positive";
   if (!NonNegative(blind_texture_hold_s)) return "blind_texture_hold_s must be >= 0";
+  if (blind_texture_min_floor_columns < 1) return "blind_texture_min_floor_columns must be >= 1";
   if (!NonNegative(avoid_gain)) return "avoid_gain must be >= 0";
   if (!(avoid_speed_fraction > 0.0 && avoid_speed_fraction <= 1.0)) return "avoid_speed_fraction must be in (0, 1]";
   if (!Positive(avoid_hold_s)) return "avoid_hold_s must be positive";
@@ -278,6 +279,38 @@ void Explorer::UpdateSonar(const Percept& p) {
       blind_view = true;
       scan = &sonar_copy_;
       ++blind_views_;
+    }
+  }
+  if (tex != nullptr && !blind_view && opt_.blind_texture_unknown) {
+    // The sonar's own unknown columns (no step, the bottom rows of the floor's grey) whose bottom
+    // is smooth: a wall of the floor's grey within the blind range. Only where every column the
+    // sonar shows floor at the bottom of (a boundary or far beyond the blind range) is textured
+    // there, at least min_reference_columns of them: on a tiled floor the bottom rows often lie
+    // within one smooth tile.
+    const std::size_t n = p.sonar->size();
+    int floor_columns = 0, smooth_floor = 0, unknown_smooth = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const SonarColumn& c = (*p.sonar)[i];
+      const bool floor = c.kind == SonarReturn::kFar ||
+                         (c.kind == SonarReturn::kBoundary && c.range_m >= p.sonar_near_blind_m + 0.5);
+      if (floor) {
+        ++floor_columns;
+        smooth_floor += smooth(i, n) ? 1 : 0;
+      } else if (c.kind == SonarReturn::kUnknown && smooth(i, n)) {
+        ++unknown_smooth;
+      }
+    }
+    if (unknown_smooth > 0 && smooth_floor == 0 && floor_columns >= opt_.blind_texture_min_floor_columns) {
+      sonar_copy_ = *p.sonar;
+      for (std::size_t i = 0; i < n; ++i) {
+        SonarColumn& c = sonar_copy_[i];
+        if (c.kind != SonarReturn::kUnknown || !smooth(i, n)) continue;
+        c.kind = SonarReturn::kBlockedNear;
+        c.range_m = 0.0;
+        c.own_range_m = 0.0;
+        ++blind_texture_kept_;
+      }
+      scan = &sonar_copy_;
     }
   }
   last_scan_blind_ = blind_view;

@@ -344,6 +344,7 @@ struct ToyPlan {
   // The walls' lines' frame's bottom texture with each scan (128 columns over the sonar's view):
   // smooth where the column's ray meets a wall within the blind range, the floor's texture elsewhere.
   bool bottom_texture = false;
+  bool smooth_tiles = false;  // ...and two columns in 16 smooth wherever they look (a tile's interior)
   std::vector<float> texture;
   static constexpr double kBlind = 1.2;
 
@@ -412,7 +413,8 @@ struct ToyPlan {
         texture.resize(128);
         for (int u = 0; u < 128; ++u) {
           const double bearing = DegToRad(30.0 - 60.0 * (u + 0.5) / 128.0);
-          texture[static_cast<std::size_t>(u)] = Ray(pose.x, pose.y, pose.yaw + bearing) < kBlind ? 0.5f : 8.0f;
+          texture[static_cast<std::size_t>(u)] =
+              Ray(pose.x, pose.y, pose.yaw + bearing) < kBlind || (smooth_tiles && u % 16 >= 8 && u % 16 < 10) ? 0.5f : 8.0f;
         }
         p.wall_bottom_texture = &texture;
       }
@@ -786,6 +788,41 @@ TEST(Explorer, BlindViewColumnsWithASmoothBottomStayBlocked) {
       for (double a = -kPi; a < kPi; a += kPi / 36) nearest = std::min(nearest, world.Ray(world.pose.x, world.pose.y, a));
     }
     if (ratio > 0.0) {
+      EXPECT_GT(nearest, 0.25);
+      EXPECT_GT(explorer.BlindTextureColumns(), 0);
+    } else {
+      EXPECT_LT(nearest, 0.25);
+      EXPECT_EQ(explorer.BlindTextureColumns(), 0);
+    }
+  }
+}
+
+// As above, but only the near wall has the floor's grey (the sonar reads its columns unknown),
+// the far wall and the floor beyond the blind range are read: no blind view. The unknown columns
+// facing the near wall have a smooth bottom where every column showing floor is textured, so
+// with blind_texture_ratio (and blind_texture_unknown) they read blocked near; not where some
+// columns showing floor are smooth too (a tiled floor), whose smoothness proves nothing.
+TEST(Explorer, UnknownColumnsWithASmoothBottomBesideTexturedFloorStayBlocked) {
+  for (const int variant : {0, 1, 2}) {  // the rule off; on; on over smooth tiles
+    SCOPED_TRACE(variant);
+    const bool unknown_rule = variant == 1;
+    ToyPlan world;
+    world.walls = {{-1, 1, 20, 1, false}, {-1, -1, 20, -1}, {-1, -1, -1, 1}, {20, -1, 20, 1}};
+    world.pose = {1.0, 0.6, DegToRad(13.0)};
+    world.bottom_texture = true;
+    world.smooth_tiles = variant == 2;
+    world.glance_bias_deg = -8.0;
+    ExplorerOptions o;
+    o.blind_texture_ratio = 0.35;
+    o.blind_texture_unknown = variant != 0;
+    Explorer explorer(o);
+    double nearest = 1e9;
+    for (int i = 0; i < 30 * 20; ++i) {
+      world.Apply(explorer.Step(world.Perceive()));
+      for (double a = -kPi; a < kPi; a += kPi / 36) nearest = std::min(nearest, world.Ray(world.pose.x, world.pose.y, a));
+    }
+    EXPECT_EQ(explorer.BlindViews(), 0);
+    if (unknown_rule) {
       EXPECT_GT(nearest, 0.25);
       EXPECT_GT(explorer.BlindTextureColumns(), 0);
     } else {

@@ -278,12 +278,18 @@ struct ExplorerOptions {
   // percentile over its columns when at least blind_texture_min_floor grey levels, else the last
   // such reference within blind_texture_hold_s). A panel of the carpet's grey within the blind
   // range is smooth, the carpet is not (corridor-2: a robot started close to a wall, heading
-  // into it). Only in blind views: the sonar's own unknown columns are left alone, since on a
-  // tiled floor a column's bottom rows often lie within one smooth tile (`default`, 45 minutes:
-  // false ends all along the west corridor). 0 turns it off (`squint explore --blind-texture 0`).
+  // into it). With blind_texture_unknown, outside blind views the sonar's own unknown columns
+  // (no step, the bottom rows of the floor's grey) with a smooth bottom read blocked near too,
+  // where every column the sonar shows floor at the bottom of (a boundary beyond the blind range
+  // by 0.5 m, or far), at least blind_texture_min_floor_columns of them, is textured there: on a
+  // tiled floor a column's bottom rows often lie within one smooth tile (without that check,
+  // `default` 45 minutes: false ends all along the west corridor). 0 turns it off
+  // (`squint explore --blind-texture 0`).
   double blind_texture_ratio = 0.0;
   double blind_texture_min_floor = 2.0;
   double blind_texture_hold_s = 10.0;
+  bool blind_texture_unknown = true;
+  int blind_texture_min_floor_columns = 8;
   // A blind view whose sonar frame shows periodic horizontal lines in at least this fraction of
   // its column bands (Percept::sonar_wall_lines: a brick wall's mortar, which keeps the glance
   // entropy at corridor level) reads as a wall whatever its entropy, while following (turning in
