@@ -93,6 +93,9 @@ struct ExplorerVariants {
   bool scan_blind_start = false;
   // With --blind-texture, also the sonar's own unknown columns (ExplorerOptions::blind_texture_unknown).
   bool blind_texture_unknown = true;
+  // An end the sonar reads this close makes the branch ahead a wall whatever the map says
+  // (ExplorerOptions::sonar_end_blocks_m; 0: off).
+  double sonar_end_blocks_m = 0.0;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -119,6 +122,7 @@ struct ExplorerVariants {
     ro.explorer.blind_texture_ratio = blind_texture_ratio;
     ro.explorer.scan_blind_start = scan_blind_start;
     ro.explorer.blind_texture_unknown = blind_texture_unknown;
+    ro.explorer.sonar_end_blocks_m = sonar_end_blocks_m;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -179,6 +183,10 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 0.99));
     cmd->add_flag("--blind-texture-unknown,!--no-blind-texture-unknown", blind_texture_unknown,
                   text("With --blind-texture: outside blind views too, a column the sonar reads unknown stays blocked near where its bottom is smooth, if every column the sonar shows floor in is textured at the bottom (on by default; docs/explore.md, session 18)"));
+    cmd->add_option("--sonar-end-blocks", sonar_end_blocks_m,
+                    text("An end read by the visual sonar with less free travel ahead than this (metres) makes the branch ahead a wall even where the map holds it explored, so the robot does not go straight on into what it sees (0: off; docs/explore.md, session 18)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 3.0));
     cmd->add_flag("--scan-blind-start,!--no-scan-blind-start", scan_blind_start,
                   text("At the start, a view blind to the visual sonar (nearly all columns blocked near) is not taken for a corridor whatever the glance says: the robot looks all around first (off by default; docs/explore.md, session 18)"));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,

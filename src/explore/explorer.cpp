@@ -85,6 +85,7 @@ std::string ExplorerOptions::Validate() const {
   if (!Positive(blind_texture_min_floor)) return "blind_texture_min_floor must be positive";
   if (!NonNegative(blind_texture_hold_s)) return "blind_texture_hold_s must be >= 0";
   if (blind_texture_min_floor_columns < 1) return "blind_texture_min_floor_columns must be >= 1";
+  if (!NonNegative(sonar_end_blocks_m)) return "sonar_end_blocks_m must be >= 0";
   if (!NonNegative(avoid_gain)) return "avoid_gain must be >= 0";
   if (!(avoid_speed_fraction > 0.0 && avoid_speed_fraction <= 1.0)) return "avoid_speed_fraction must be in (0, 1]";
   if (!Positive(avoid_hold_s)) return "avoid_hold_s must be positive";
@@ -996,7 +997,9 @@ Command Explorer::FollowStep(const Percept& p) {
     ++ends_;
     last_ref_entropy_ = ReferenceEntropy();
     node_ = map_.Arrive(map_pose_.Translation(), dir_, CameAlong());
-    map_.SetBranch(node_, dir_, Branch::kWall);
+    // Something the sonar sees standing close ahead blocks the way now, whatever the map
+    // remembers of it (sonar_end_blocks_m).
+    map_.SetBranch(node_, dir_, Branch::kWall, end_by_sonar && axis_free < opt_.sonar_end_blocks_m);
     Emit(ExploreEvent::Kind::kEndDetected, p, 0,
          Format("end: fused distance %.2f m, entropy %.2f of reference %.2f, sonar free %.2f m (%s)", dist_end_m_,
                 p.glance_entropy_nats.value_or(-1.0), last_ref_entropy_, axis_free, end_by_sonar ? "sonar" : "entropy/distance"));

@@ -272,6 +272,11 @@ struct ExplorerOptions {
   // open while following. Off: `squint explore --no-blind-side-lines`; on since session 18.
   bool blind_side_needs_lines = true;
   bool scan_blind_start = false;  // see start_corridor_entropy_nats
+  // An end read by the sonar with less than this free travel along the axis (metres) makes the
+  // branch ahead a wall even where the map holds it explored (the robot came that way before): it
+  // is blocked now, and "straight on" there drove the obstacle course's robot into a bin 0.5 m
+  // ahead. 0 turns it off (`squint explore --sonar-end-blocks 0`).
+  double sonar_end_blocks_m = 0.0;
   // In a blind view read as unknown (blind_view_entropy_ratio), a blocked-near sonar column stays
   // blocked near where the walls' lines' frame shows its bottom smooth: that column's mean bottom
   // texture (Percept::wall_bottom_texture) below this fraction of the floor's (the frame's 90th
