@@ -88,14 +88,14 @@ struct ExplorerVariants {
   bool blind_side_lines = true;
   // In a blind view, sonar columns whose bottom the walls' lines' frame shows smooth stay
   // blocked near (ExplorerOptions::blind_texture_ratio; 0: off).
-  double blind_texture_ratio = 0.0;
-  // The start's look scans all around where the sonar's view is blind (ExplorerOptions::scan_blind_start).
-  bool scan_blind_start = false;
+  double blind_texture_ratio = 0.35;
+  // The start's look scans all around where the sonar's view is blind (ExplorerOptions::scan_blind_start; on since session 18).
+  bool scan_blind_start = true;
   // With --blind-texture, also the sonar's own unknown columns (ExplorerOptions::blind_texture_unknown).
-  bool blind_texture_unknown = true;
+  bool blind_texture_unknown = false;
   // An end the sonar reads this close makes the branch ahead a wall whatever the map says
-  // (ExplorerOptions::sonar_end_blocks_m; 0: off).
-  double sonar_end_blocks_m = 0.0;
+  // (ExplorerOptions::sonar_end_blocks_m; 0: off; 1.0 since session 18).
+  double sonar_end_blocks_m = 1.0;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -178,17 +178,17 @@ struct ExplorerVariants {
     cmd->add_flag("--blind-side-lines,!--no-blind-side-lines", blind_side_lines,
                   text("Probing, a side whose sonar view is blind (nearly all columns blocked near, read as unknown because the glance looks like a corridor) is not open by the sonar's free travel, only by the walls' lines, the remembered points at an end or the entropy rule on an opening found while following: a door recess filling the view (on by default since session 18; docs/explore.md, session 18)"));
     cmd->add_option("--blind-texture", blind_texture_ratio,
-                    text("With --wall-lines: in a view blind to the visual sonar (the floor and the walls of one grey) a column stays blocked near where the walls' lines' frame shows its bottom smoother than this fraction of the floor's texture: a wall within the camera's near blind range (0: off; docs/explore.md, session 18)"))
+                    text("With --wall-lines: in a view blind to the visual sonar (the floor and the walls of one grey) a column stays blocked near where the walls' lines' frame shows its bottom smoother than this fraction of the floor's texture: a wall within the camera's near blind range (0: off; 0.35 by default since session 18; docs/explore.md, session 18)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 0.99));
     cmd->add_flag("--blind-texture-unknown,!--no-blind-texture-unknown", blind_texture_unknown,
-                  text("With --blind-texture: outside blind views too, a column the sonar reads unknown stays blocked near where its bottom is smooth, if every column the sonar shows floor in is textured at the bottom (on by default; docs/explore.md, session 18)"));
+                  text("With --blind-texture: outside blind views too, a column the sonar reads unknown stays blocked near where its bottom is smooth, if every column the sonar shows floor in is textured at the bottom (off by default: corridor-2's seeded starts' coverage 0.82 -> 0.73; docs/explore.md, session 18)"));
     cmd->add_option("--sonar-end-blocks", sonar_end_blocks_m,
-                    text("An end read by the visual sonar with less free travel ahead than this (metres) makes the branch ahead a wall even where the map holds it explored, so the robot does not go straight on into what it sees (0: off; docs/explore.md, session 18)"))
+                    text("An end read by the visual sonar with less free travel ahead than this (metres) makes the branch ahead a wall even where the map holds it explored, so the robot does not go straight on into what it sees (0: off; 1.0 by default since session 18; docs/explore.md, session 18)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 3.0));
     cmd->add_flag("--scan-blind-start,!--no-scan-blind-start", scan_blind_start,
-                  text("At the start, a view blind to the visual sonar (nearly all columns blocked near) is not taken for a corridor whatever the glance says: the robot looks all around first (off by default; docs/explore.md, session 18)"));
+                  text("At the start, a view blind to the visual sonar (nearly all columns blocked near) is not taken for a corridor whatever the glance says: the robot looks all around first (on by default since session 18; docs/explore.md, session 18)"));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,
                   text("A break in a side wall handled as an opening (a door recess rejected, a junction) starts a new wall run, however short it was, so the next side branch along that wall is still found (on by default since session 17; docs/explore.md, sessions 16 and 17)"));
   }

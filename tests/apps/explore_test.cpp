@@ -150,7 +150,7 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
 // defaults (and without session 18's defaults).
 const std::string kWithoutWallLines =
     " --no-wall-lines --no-end-probe-memory --no-wall-lines-binned --wall-line-free 0 --no-rearm-after-gap --no-mouth-wall-line"
-    " --arrival-min-travel 0 --shift-stall 0 --no-blind-side-lines";
+    " --arrival-min-travel 0 --shift-stall 0 --no-blind-side-lines --blind-texture 0 --no-scan-blind-start --sonar-end-blocks 0";
 
 // --own-range-clearing (off by default), with the explorer as it was without the walls' lines
 // (session 14): obstacle-course start 1 of seed 12 sets off beside the
@@ -234,10 +234,10 @@ TEST(ExploreCli, ASonarEndCloseAheadBlocksABranchTheMapHoldsExplored) {
   auto summary = [&](const std::string& name, const std::string& flag) {
     return ExploreSummary(dir / name, "--world obstacle-course --seed 1 --eval-start 2 --minutes 2.6" + flag);
   };
-  const nlohmann::json off = summary("off", "");
+  const nlohmann::json off = summary("off", " --sonar-end-blocks 0 --blind-texture 0 --no-scan-blind-start");
   EXPECT_GT(off["collisions"].get<long>(), 0);
   EXPECT_EQ(off["first_hit"].get<std::string>(), "obstacles[4] (bin)");
-  const nlohmann::json on = summary("on", " --sonar-end-blocks 1.0");
+  const nlohmann::json on = summary("on", " --sonar-end-blocks 1.0 --blind-texture 0 --no-scan-blind-start");
   EXPECT_EQ(on["collisions"].get<long>(), 0);
   std::filesystem::remove_all(dir);
 }
@@ -269,10 +269,10 @@ TEST(ExploreCli, BlindTextureKeepsAWallOfTheFloorsGreyBlocked) {
   auto summary = [&](const std::string& name, const std::string& flag) {
     return ExploreSummary(dir / name, "--world corridor-2 --seed 15 --eval-start 2 --minutes 0.3" + flag);
   };
-  const nlohmann::json off = summary("off", " --blind-texture 0");
+  const nlohmann::json off = summary("off", " --blind-texture 0 --no-scan-blind-start");
   EXPECT_GT(off["collisions"].get<long>(), 0);
   EXPECT_LT(off["first_collision_s"].get<double>(), 3.0);
-  const nlohmann::json on = summary("on", " --blind-texture 0.35");
+  const nlohmann::json on = summary("on", " --blind-texture 0.35 --no-scan-blind-start");
   EXPECT_EQ(on["collisions"].get<long>(), 0);
   std::filesystem::remove_all(dir);
 }

@@ -781,6 +781,7 @@ TEST(Explorer, BlindViewColumnsWithASmoothBottomStayBlocked) {
     world.glance_bias_deg = -8.0;
     ExplorerOptions o;
     o.blind_texture_ratio = ratio;
+    o.scan_blind_start = false;  // set off from the start's look, as without it
     Explorer explorer(o);
     double nearest = 1e9;
     for (int i = 0; i < 30 * 20; ++i) {

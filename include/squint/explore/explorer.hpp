@@ -111,7 +111,7 @@ struct ExplorerOptions {
   // ...nor where the sonar's view at the start is blind (nearly all columns blocked near, read as
   // unknown because the glance looks like a corridor): a wall of the corridor's entropy within
   // the blind range passes the glance's tests (`default`, a start 0.5 m from a wall with a door
-  // frame in view). Off: `squint explore --no-scan-blind-start`.
+  // frame in view). On since session 18; off: `squint explore --no-scan-blind-start`.
   double start_max_spread_deg = 6.0;
   // Stall guard from odometry alone: commanded forward but the wheels did not move.
   double stall_window_s = 1.0;
@@ -271,12 +271,12 @@ struct ExplorerOptions {
   // the remembered points at a corridor's end, or the entropy rule on a side the sonar showed
   // open while following. Off: `squint explore --no-blind-side-lines`; on since session 18.
   bool blind_side_needs_lines = true;
-  bool scan_blind_start = false;  // see start_corridor_entropy_nats
+  bool scan_blind_start = true;  // see start_corridor_entropy_nats
   // An end read by the sonar with less than this free travel along the axis (metres) makes the
   // branch ahead a wall even where the map holds it explored (the robot came that way before): it
   // is blocked now, and "straight on" there drove the obstacle course's robot into a bin 0.5 m
-  // ahead. 0 turns it off (`squint explore --sonar-end-blocks 0`).
-  double sonar_end_blocks_m = 0.0;
+  // ahead. 1.0 since session 18; 0 turns it off (`squint explore --sonar-end-blocks 0`).
+  double sonar_end_blocks_m = 1.0;
   // In a blind view read as unknown (blind_view_entropy_ratio), a blocked-near sonar column stays
   // blocked near where the walls' lines' frame shows its bottom smooth: that column's mean bottom
   // texture (Percept::wall_bottom_texture) below this fraction of the floor's (the frame's 90th
@@ -288,12 +288,14 @@ struct ExplorerOptions {
   // where every column the sonar shows floor at the bottom of (a boundary beyond the blind range
   // by 0.5 m, or far), at least blind_texture_min_floor_columns of them, is textured there: on a
   // tiled floor a column's bottom rows often lie within one smooth tile (without that check,
-  // `default` 45 minutes: false ends all along the west corridor). 0 turns it off
-  // (`squint explore --blind-texture 0`).
-  double blind_texture_ratio = 0.0;
+  // `default` 45 minutes: false ends all along the west corridor). blind_texture_unknown is off
+  // (`--blind-texture-unknown`): it kept two more of corridor-2's "close to a wall" starts off the
+  // wall but its false blocks cut corridor-2's seeded starts' coverage from 0.82 to 0.73 (session
+  // 18). 0 turns it all off (`squint explore --blind-texture 0`); 0.35 since session 18.
+  double blind_texture_ratio = 0.35;
   double blind_texture_min_floor = 2.0;
   double blind_texture_hold_s = 10.0;
-  bool blind_texture_unknown = true;
+  bool blind_texture_unknown = false;
   int blind_texture_min_floor_columns = 8;
   // A blind view whose sonar frame shows periodic horizontal lines in at least this fraction of
   // its column bands (Percept::sonar_wall_lines: a brick wall's mortar, which keeps the glance
