@@ -286,7 +286,7 @@ void Explorer::UpdateSonar(const Percept& p) {
     // The sonar's own unknown columns (no step, the bottom rows of the floor's grey) whose bottom
     // is smooth: a wall of the floor's grey within the blind range. Only where every column the
     // sonar shows floor at the bottom of (a boundary or far beyond the blind range) is textured
-    // there, at least min_reference_columns of them: on a tiled floor the bottom rows often lie
+    // there, at least blind_texture_min_floor_columns of them: on a tiled floor the bottom rows often lie
     // within one smooth tile.
     const std::size_t n = p.sonar->size();
     int floor_columns = 0, smooth_floor = 0, unknown_smooth = 0;
@@ -329,7 +329,8 @@ void Explorer::UpdateSonar(const Percept& p) {
 
 const std::vector<float>* Explorer::BlindTexture(const Percept& p) {
   if (!(opt_.blind_texture_ratio > 0.0) || p.wall_bottom_texture == nullptr || p.wall_bottom_texture->empty()) return nullptr;
-  std::vector<float> v = *p.wall_bottom_texture;
+  std::vector<float>& v = texture_sorted_;
+  v.assign(p.wall_bottom_texture->begin(), p.wall_bottom_texture->end());
   const std::size_t k = (v.size() * 9) / 10;
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
   if (v[k] >= opt_.blind_texture_min_floor) {

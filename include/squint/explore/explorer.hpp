@@ -665,7 +665,8 @@ class Explorer {
   bool last_scan_blind_ = false;
   double floor_texture_ref_ = 0.0;      // the floor's bottom texture in the walls' lines' frame (blind_texture_ratio)
   double floor_texture_ref_s_ = -1e9;   // when it was last measured
-  long blind_texture_kept_ = 0;         // blocked-near columns kept so in blind views  // the latest sonar scan was a blind view read as unknown
+  long blind_texture_kept_ = 0;         // sonar columns read blocked near from the bottom texture
+  std::vector<float> texture_sorted_;   // BlindTexture's work buffer  // the latest sonar scan was a blind view read as unknown
   double shift_check_s_ = 0.0;              // start of the drive's current progress window (< 0: none)
   Command last_cmd_;                        // the previous step's command, after the guard
   double last_cmd_s_ = -1.0;                // its stamp
