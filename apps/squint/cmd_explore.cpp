@@ -87,11 +87,11 @@ struct ExplorerVariants {
   // other non-sonar rules) (ExplorerOptions::blind_side_needs_lines; on since session 18).
   bool blind_side_lines = true;
   // In a blind view, sonar columns whose bottom the walls' lines' frame shows smooth stay
-  // blocked near (ExplorerOptions::blind_texture_ratio; 0: off).
+  // blocked near (ExplorerOptions::blind_texture_ratio; 0: off; 0.35 since session 18).
   double blind_texture_ratio = 0.35;
   // The start's look scans all around where the sonar's view is blind (ExplorerOptions::scan_blind_start; on since session 18).
   bool scan_blind_start = true;
-  // With --blind-texture, also the sonar's own unknown columns (ExplorerOptions::blind_texture_unknown).
+  // With --blind-texture, also the sonar's own unknown columns (ExplorerOptions::blind_texture_unknown; off).
   bool blind_texture_unknown = false;
   // An end the sonar reads this close makes the branch ahead a wall whatever the map says
   // (ExplorerOptions::sonar_end_blocks_m; 0: off; 1.0 since session 18).

@@ -8,6 +8,7 @@
 #include <ctime>
 #include <optional>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -275,8 +276,8 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
         wall_renderer->Render(world_T_robot, wv, nullptr, 0, nullptr, 0, static_cast<std::uint64_t>(f));
         cpu4 = ThreadCpuSeconds();
       }
-      const explore::WallLines wl = explore::FindWallLines(wv, *wall_camera, options.wall_lines);
-      wall_bottom_texture = wl.bottom_texture;
+      explore::WallLines wl = explore::FindWallLines(wv, *wall_camera, options.wall_lines);
+      wall_bottom_texture = std::move(wl.bottom_texture);
       p.wall_bottom_texture = &wall_bottom_texture;
       perception_cpu += ThreadCpuSeconds() - cpu4;
       if (wl.valid) p.wall_line_heading_deg = wl.HeadingDeg();

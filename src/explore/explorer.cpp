@@ -734,7 +734,7 @@ void Explorer::StartFollow(const Percept&) {
   gate_reset_ = true;
   heading_filter_reset_ = true;
   heading_filter_prior_ = true;
-  stall_since_s_ = -1.0;
+  stall_.Reset();
   sides_[0] = sides_[1] = SideTrack{};
   last_wall_m_[0] = last_wall_m_[1] = -1.0;
 }
@@ -1011,20 +1011,12 @@ Command Explorer::FollowStep(const Percept& p) {
   if (TrackSides(p)) return {};
 
   // Stall guard (odometry only): commanded forward for a while, the wheels did not move.
-  if (stall_since_s_ < 0.0) {
-    stall_since_s_ = p.stamp_s;
-    stall_odom_ = p.odom_T_robot;
-  } else if (p.stamp_s - stall_since_s_ >= opt_.stall_window_s) {
-    const double moved = (p.odom_T_robot.Translation() - stall_odom_.Translation()).norm();
-    stall_since_s_ = p.stamp_s;
-    stall_odom_ = p.odom_T_robot;
-    if (moved < opt_.stall_min_progress_m) {
-      Emit(ExploreEvent::Kind::kStall, p, 0, "no wheel progress: backing off");
-      state_ = ExploreState::kBackOff;
-      // Reversing is blind (no camera behind): with the sonar the robot only turns in place.
-      backoff_until_s_ = p.stamp_s + (sonar_seen_ ? 0.0 : 2.0);
-      return {};
-    }
+  if (stall_.Stalled(p.stamp_s, p.odom_T_robot.Translation(), opt_.stall_window_s, opt_.stall_min_progress_m)) {
+    Emit(ExploreEvent::Kind::kStall, p, 0, "no wheel progress: backing off");
+    state_ = ExploreState::kBackOff;
+    // Reversing is blind (no camera behind): with the sonar the robot only turns in place.
+    backoff_until_s_ = p.stamp_s + (sonar_seen_ ? 0.0 : 2.0);
+    return {};
   }
 
   const double heading = WrapPi(p.odom_T_robot.yaw - axis_yaw_odom_);
@@ -1405,7 +1397,7 @@ void Explorer::StartTurnTo(const Percept& p, int dir, int turn_deg, const std::s
     shift_rot_ = Rotation{axis_yaw_odom_, 0};
     shift_aligned_ = false;
     shift_start_s_ = p.stamp_s;
-    shift_check_s_ = -1.0;
+    shift_progress_.Reset();
     Emit(ExploreEvent::Kind::kTurn, p, turn_deg, note + Format("; to the mouth's centre first: %+.2f m along", along));
     return;
   }
@@ -1466,21 +1458,14 @@ Command Explorer::ShiftStep(const Percept& p) {
   // seen): the wheels stop moving while the guard lets the robot drive. Turn from here. (Where
   // the guard stops it, the drive's time limit applies.)
   if (opt_.shift_stall_s > 0.0) {
-    const bool driving = last_cmd_s_ >= 0.0 && std::abs(last_cmd_.v_mps) >= 0.05;
-    if (!driving) {
-      shift_check_s_ = -1.0;
-    } else if (shift_check_s_ < 0.0) {
-      shift_check_s_ = last_cmd_s_;
-      shift_check_at_ = p.odom_T_robot.Translation();
-    } else if (p.stamp_s - shift_check_s_ >= opt_.shift_stall_s) {
-      const double moved = (p.odom_T_robot.Translation() - shift_check_at_).norm();
-      shift_check_s_ = p.stamp_s;
-      shift_check_at_ = p.odom_T_robot.Translation();
-      if (moved < 0.2 * 0.05 * opt_.shift_stall_s) {
-        Emit(ExploreEvent::Kind::kStall, p, 0, "no wheel progress toward the mouth's centre: turning from here");
-        shift_m_ = 0.0;
-        return {};
-      }
+    constexpr double kDrivingMps = 0.05;  // a command at least this fast counts as driving
+    if (last_cmd_s_ < 0.0 || std::abs(last_cmd_.v_mps) < kDrivingMps) {
+      shift_progress_.Reset();
+    } else if (shift_progress_.Stalled(p.stamp_s, p.odom_T_robot.Translation(), opt_.shift_stall_s,
+                                       0.2 * kDrivingMps * opt_.shift_stall_s, last_cmd_s_)) {
+      Emit(ExploreEvent::Kind::kStall, p, 0, "no wheel progress toward the mouth's centre: turning from here");
+      shift_m_ = 0.0;
+      return {};
     }
   }
   const Eigen::Vector2d d(std::cos(shift_rot_.target_yaw), std::sin(shift_rot_.target_yaw));

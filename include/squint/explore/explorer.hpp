@@ -601,9 +601,28 @@ class Explorer {
   bool gate_reset_ = true;
   bool heading_filter_reset_ = true;
   bool heading_filter_prior_ = false;  // the reset may start from the axis' heading
-  // Stall guard.
-  double stall_since_s_ = -1.0;
-  Pose2 stall_odom_;
+  // Wheel progress over windows of time (odometry only): a window starts, and once it has lasted
+  // window_s ends, telling whether the robot moved less than min_m in it (and the next starts).
+  struct ProgressWindow {
+    double since_s = -1.0;  // < 0: none started
+    Eigen::Vector2d at = Eigen::Vector2d::Zero();
+    void Reset() { since_s = -1.0; }
+    // `start_s`: the stamp a window started now is counted from (default now_s).
+    bool Stalled(double now_s, const Eigen::Vector2d& position, double window_s, double min_m, double start_s = -1.0) {
+      if (since_s < 0.0) {
+        since_s = start_s >= 0.0 ? start_s : now_s;
+        at = position;
+        return false;
+      }
+      if (now_s - since_s < window_s) return false;
+      const double moved = (position - at).norm();
+      since_s = now_s;
+      at = position;
+      return moved < min_m;
+    }
+  };
+  // Stall guard while following.
+  ProgressWindow stall_;
   double backoff_until_s_ = 0.0;
 
   // Scan.
@@ -662,15 +681,14 @@ class Explorer {
   Rotation shift_rot_;
   bool shift_aligned_ = false;
   double shift_start_s_ = 0.0;
-  bool last_scan_blind_ = false;
+  ProgressWindow shift_progress_;      // the drive's wheel progress while the guard lets it drive (shift_stall_s)
+  Command last_cmd_;                    // the previous step's command, after the guard
+  double last_cmd_s_ = -1.0;            // its stamp
+  bool last_scan_blind_ = false;        // the latest sonar scan was a blind view read as unknown
   double floor_texture_ref_ = 0.0;      // the floor's bottom texture in the walls' lines' frame (blind_texture_ratio)
   double floor_texture_ref_s_ = -1e9;   // when it was last measured
   long blind_texture_kept_ = 0;         // sonar columns read blocked near from the bottom texture
-  std::vector<float> texture_sorted_;   // BlindTexture's work buffer  // the latest sonar scan was a blind view read as unknown
-  double shift_check_s_ = 0.0;              // start of the drive's current progress window (< 0: none)
-  Command last_cmd_;                        // the previous step's command, after the guard
-  double last_cmd_s_ = -1.0;                // its stamp
-  Eigen::Vector2d shift_check_at_ = Eigen::Vector2d::Zero();  // odometry position there
+  std::vector<float> texture_sorted_;   // BlindTexture's work buffer
   double last_wall_m_[2] = {-1.0, -1.0};  // the last abeam wall distance per side in this corridor
   Eigen::Vector2d last_wall_at_[2] = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};  // odometry position of that reading
 
