@@ -93,6 +93,14 @@ struct ExplorerVariants {
   bool scan_blind_start = true;
   // With --blind-texture, also the sonar's own unknown columns (ExplorerOptions::blind_texture_unknown; off).
   bool blind_texture_unknown = false;
+  // --blind-texture-unknown's rule until the robot has driven this far since its start
+  // (ExplorerOptions::blind_texture_start_m; 0: off).
+  double blind_texture_start_m = 0.0;
+  // A scan's view with a brick wall's lines across this fraction of the sonar's bands is a wall
+  // view (ExplorerOptions::scan_wall_lines; 0: off).
+  double scan_wall_lines = 0.0;
+  // A blind view near (travel, yaw) the last wall view is a wall (ExplorerOptions::wall_view_hold_m; 0: off).
+  double wall_view_hold_m = 0.0;
   // An end the sonar reads this close makes the branch ahead a wall whatever the map says
   // (ExplorerOptions::sonar_end_blocks_m; 0: off; 1.0 since session 18).
   double sonar_end_blocks_m = 1.0;
@@ -122,6 +130,9 @@ struct ExplorerVariants {
     ro.explorer.blind_texture_ratio = blind_texture_ratio;
     ro.explorer.scan_blind_start = scan_blind_start;
     ro.explorer.blind_texture_unknown = blind_texture_unknown;
+    ro.explorer.blind_texture_start_m = blind_texture_start_m;
+    ro.explorer.scan_wall_lines = scan_wall_lines;
+    ro.explorer.wall_view_hold_m = wall_view_hold_m;
     ro.explorer.sonar_end_blocks_m = sonar_end_blocks_m;
   }
 
@@ -183,6 +194,18 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 0.99));
     cmd->add_flag("--blind-texture-unknown,!--no-blind-texture-unknown", blind_texture_unknown,
                   text("With --blind-texture: outside blind views too, a column the sonar reads unknown stays blocked near where its bottom is smooth, if every column the sonar shows floor in is textured at the bottom (off by default: corridor-2's seeded starts' coverage 0.82 -> 0.73; docs/explore.md, session 18)"));
+    cmd->add_option("--blind-texture-start", blind_texture_start_m,
+                    text("With --blind-texture: --blind-texture-unknown's rule applies until the robot has driven this far (metres) since its start, a start close to a wall of the floor's grey (0: off; docs/explore.md, session 19)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 100.0));
+    cmd->add_option("--scan-wall-lines", scan_wall_lines,
+                    text("Scanning in place, a view whose visual-sonar frame shows periodic horizontal lines (a brick wall's mortar) across at least this fraction of its bands counts as a wall filling the view, so the scan does not set off toward it (0: off; docs/explore.md, session 19)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--wall-view-hold", wall_view_hold_m,
+                    text("A view blind to the visual sonar taken within this wheel travel (metres) and 10 degrees of yaw of the last view judged a wall filling the view is a wall too, so a glance entropy hovering at the threshold does not let the robot drive into a box up close (0: off; docs/explore.md, session 19)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 10.0));
     cmd->add_option("--sonar-end-blocks", sonar_end_blocks_m,
                     text("An end read by the visual sonar with less free travel ahead than this (metres) makes the branch ahead a wall even where the map holds it explored, so the robot does not go straight on into what it sees (0: off; 1.0 by default since session 18; docs/explore.md, session 18)"))
         ->capture_default_str()

@@ -82,6 +82,10 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(arrival_min_travel_m)) return "arrival_min_travel_m must be >= 0";
   if (!NonNegative(shift_stall_s)) return "shift_stall_s must be >= 0";
   if (!(blind_texture_ratio >= 0.0 && blind_texture_ratio < 1.0)) return "blind_texture_ratio must be in [0, 1)";
+  if (!(wall_view_hold_m >= 0.0 && wall_view_hold_m <= 10.0)) return "wall_view_hold_m must be in [0, 10]";
+  if (!(wall_view_hold_deg > 0.0 && wall_view_hold_deg <= 180.0)) return "wall_view_hold_deg must be in (0, 180]";
+  if (!(scan_wall_lines >= 0.0 && scan_wall_lines <= 1.0)) return "scan_wall_lines must be in [0, 1]";
+  if (!(blind_texture_start_m >= 0.0 && blind_texture_start_m <= 1000.0)) return "blind_texture_start_m must be in [0, 1000]";
   if (!Positive(blind_texture_min_floor)) return "blind_texture_min_floor must be positive";
   if (!NonNegative(blind_texture_hold_s)) return "blind_texture_hold_s must be >= 0";
   if (blind_texture_min_floor_columns < 1) return "blind_texture_min_floor_columns must be >= 1";
@@ -263,6 +267,15 @@ void Explorer::UpdateSonar(const Percept& p) {
     const bool wall_lines = opt_.blind_view_max_wall_lines > 0.0 && state_ == ExploreState::kFollow &&
                             p.sonar_wall_lines >= opt_.blind_view_max_wall_lines;
     view_is_wall_ = view && (*p.glance_entropy_nats < threshold || wall_lines);
+    if (view && !view_is_wall_ && opt_.wall_view_hold_m > 0.0 && wall_view_odometer_m_ >= 0.0 &&
+        odometer_m_ - wall_view_odometer_m_ <= opt_.wall_view_hold_m &&
+        std::abs(WrapPi(p.odom_T_robot.yaw - wall_view_yaw_)) <= DegToRad(opt_.wall_view_hold_deg)) {
+      view_is_wall_ = true;
+    }
+    if (view_is_wall_) {
+      wall_view_odometer_m_ = odometer_m_;
+      wall_view_yaw_ = p.odom_T_robot.yaw;
+    }
     if (view && !view_is_wall_) {
       // A corridor view in the glance, no floor contrast in the sonar: no information, except
       // where the walls' lines' frame shows a column's bottom smooth (blind_texture_ratio).
@@ -282,7 +295,9 @@ void Explorer::UpdateSonar(const Percept& p) {
       ++blind_views_;
     }
   }
-  if (tex != nullptr && !blind_view && opt_.blind_texture_unknown) {
+  const bool unknown_rule =
+      opt_.blind_texture_unknown || (opt_.blind_texture_start_m > 0.0 && odometer_m_ < opt_.blind_texture_start_m);
+  if (tex != nullptr && !blind_view && unknown_rule) {
     // The sonar's own unknown columns (no step, the bottom rows of the floor's grey) whose bottom
     // is smooth: a wall of the floor's grey within the blind range. Only where every column the
     // sonar shows floor at the bottom of (a boundary or far beyond the blind range) is textured
@@ -457,6 +472,7 @@ void Explorer::UpdateMapPose(const Percept& p) {
   map_pose_.x += ds * std::cos(mid);
   map_pose_.y += ds * std::sin(mid);
   map_pose_.yaw = yaw;
+  odometer_m_ += std::abs(ds);
   if (state_ == ExploreState::kFollow) {
     travel_in_corridor_m_ += std::abs(ds);
     if (dist_end_m_ >= 0.0) dist_end_m_ = std::max(0.0, dist_end_m_ - ds * std::cos(WrapPi(p.odom_T_robot.yaw - axis_yaw_odom_)));
@@ -491,7 +507,7 @@ Command Explorer::ScanStep(const Percept& p) {
     }
     if (p.sonar != nullptr) {
       ++scan_views_[b];
-      if (view_is_wall_) ++scan_wall_views_[b];
+      if (view_is_wall_ || (opt_.scan_wall_lines > 0.0 && p.sonar_wall_lines >= opt_.scan_wall_lines)) ++scan_wall_views_[b];
     }
     // The axis a heading reading implies, modulo 90° in [0, π/2).
     auto axis_mod90 = [&](double heading_deg) { return std::fmod(p.odom_T_robot.yaw - DegToRad(heading_deg) + 8 * kPi, kPi / 2); };

@@ -70,6 +70,12 @@ struct ExplorerOptions {
   // coverage 0.85 on seed 1; the three together: seeded starts 119/120 and 114/120 on seeds 1 and
   // 2, default coverage 1.00 on both; docs/explore.md, session 7).
   bool scan_skips_wall_views = true;
+  // With scan_skips_wall_views, a scan's view whose sonar frame shows periodic horizontal lines
+  // in at least this fraction of its column bands (Percept::sonar_wall_lines) counts as a wall
+  // view too: a brick wall up close, whose mortar the sonar reads as floor running far (corridor-9,
+  // a start 0.65 m from the brick side wall: no column blocked, the scan set off into it).
+  // 0 turns it off.
+  double scan_wall_lines = 0.0;
   // The corridor axis checked against the walls the memory holds (ObstacleMemory::WallAxisMod90,
   // trusted with at least wall_axis_min_pairs pairs and wall_axis_min_strength): a scan takes the
   // walls' axis where the glance's differs from it by more than 10 degrees, a probe first snaps
@@ -264,6 +270,12 @@ struct ExplorerOptions {
   // or above start_corridor_entropy_nats. 0 turns this off.
   double blind_view_fraction = 0.75;
   double blind_view_entropy_ratio = 0.85;
+  // A blind view taken within wall_view_hold_m of wheel travel and wall_view_hold_deg of yaw of the
+  // last view judged a wall is a wall too: the glance's entropy facing a box up close hovers at
+  // the threshold, and one frame above it made the box's columns unknown and let the robot drive
+  // on into it (the obstacle course, start 3 of seeds 5 and 16). 0 turns it off.
+  double wall_view_hold_m = 0.0;
+  double wall_view_hold_deg = 10.0;
   bool blind_view_clears = true;  // such a view also clears the memory along its rays out to the blind range
   // Probing, a side whose latest scan was such a blind view read as unknown is not open by the
   // sonar's free travel (which then rests on no floor seen at all: a door recess within the blind
@@ -296,6 +308,10 @@ struct ExplorerOptions {
   double blind_texture_min_floor = 2.0;
   double blind_texture_hold_s = 10.0;
   bool blind_texture_unknown = false;
+  // blind_texture_unknown's rule, applied only until the robot has driven this far (metres of
+  // wheel travel) since its start: a robot started close to a wall of the floor's grey has no
+  // earlier view of the wall, and no false end there costs coverage (0: off).
+  double blind_texture_start_m = 0.0;
   int blind_texture_min_floor_columns = 8;
   // A blind view whose sonar frame shows periodic horizontal lines in at least this fraction of
   // its column bands (Percept::sonar_wall_lines: a brick wall's mortar, which keeps the glance
@@ -595,6 +611,10 @@ class Explorer {
   int end_count_ = 0;
   int entropy_low_count_ = 0;
   double travel_in_corridor_m_ = 0.0;
+  double odometer_m_ = 0.0;  // wheel travel since the start (UpdateMapPose)
+  // Where the last view judged a wall was taken (odometer_m_, odometry yaw; wall_view_hold_m).
+  double wall_view_odometer_m_ = -1.0;
+  double wall_view_yaw_ = 0.0;
   std::vector<double> ref_entropy_;  // ring buffer of glance entropies while following
   int ref_next_ = 0;
   double last_ref_entropy_ = 0.0;
