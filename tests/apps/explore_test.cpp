@@ -277,6 +277,59 @@ TEST(ExploreCli, BlindTextureKeepsAWallOfTheFloorsGreyBlocked) {
   std::filesystem::remove_all(dir);
 }
 
+// corridor-2, seeded start 2 ("close to a wall") of seed 6: 0.3 m from the turn corridor's east
+// wall, heading 10° into it. The wall's panels have the carpet's grey, so the sonar reads its
+// columns unknown without a blind view (the far wall and the floor are read), and the robot meets
+// the wall within 4 s. With --blind-texture-start the smooth-bottom rule applies to those unknown
+// columns over the first 2 m from the start, and they stay blocked near.
+TEST(ExploreCli, BlindTextureStartKeepsACloseStartOffAWallOfTheFloorsGrey) {
+  const auto dir = TempDir("blind-texture-start");
+  auto summary = [&](const std::string& name, const std::string& flag) {
+    return ExploreSummary(dir / name, "--world corridor-2 --seed 6 --eval-start 2 --minutes 0.3" + flag);
+  };
+  const nlohmann::json off = summary("off", " --blind-texture-start 0");
+  EXPECT_GT(off["collisions"].get<long>(), 0);
+  EXPECT_LT(off["first_collision_s"].get<double>(), 4.0);
+  const nlohmann::json on = summary("on", " --blind-texture-start 2");
+  EXPECT_EQ(on["collisions"].get<long>(), 0);
+  std::filesystem::remove_all(dir);
+}
+
+// corridor-9, seeded start 7 of seed 14: 0.65 m from the main corridor's brick side wall, facing
+// it. Up close the sonar reads the mortar as floor running far (no column blocked), so the
+// start-up scan finds the wall's direction the freest and sets off into it (contact at 13.6 s).
+// With --scan-wall-lines the scan's views with the brick's lines across the frame are wall views,
+// and it sets off down the corridor.
+TEST(ExploreCli, AScanDoesNotSetOffIntoABrickWallUpClose) {
+  const auto dir = TempDir("scan-wall-lines");
+  auto summary = [&](const std::string& name, const std::string& flag) {
+    return ExploreSummary(dir / name, "--world corridor-9 --seed 14 --eval-start 7 --minutes 0.3" + flag);
+  };
+  const nlohmann::json off = summary("off", " --scan-wall-lines 0");
+  EXPECT_GT(off["collisions"].get<long>(), 0);
+  EXPECT_LT(off["first_collision_s"].get<double>(), 15.0);
+  const nlohmann::json on = summary("on", " --scan-wall-lines 0.75");
+  EXPECT_EQ(on["collisions"].get<long>(), 0);
+  std::filesystem::remove_all(dir);
+}
+
+// The obstacle course, seeded start 3 of seed 5: boxed in among the boxes, the robot faces the
+// rotated box 0.4 m ahead (nearly every sonar column blocked near) after a full turn; the glance's
+// entropy hovers at the blind-view threshold, one frame above it reads the view blind (its
+// columns unknown), and the robot drives into the box at 170.5 s. With --wall-view-hold a blind
+// view taken within 0.1 m and 10 degrees of the last wall view is a wall.
+TEST(ExploreCli, AWallViewHeldKeepsTheRobotOffABoxUpClose) {
+  const auto dir = TempDir("wall-view-hold");
+  auto summary = [&](const std::string& name, const std::string& flag) {
+    return ExploreSummary(dir / name, "--world obstacle-course --seed 5 --eval-start 3 --minutes 2.9" + flag);
+  };
+  const nlohmann::json off = summary("off", " --wall-view-hold 0");
+  EXPECT_GT(off["collisions"].get<long>(), 0);
+  const nlohmann::json on = summary("on", " --wall-view-hold 0.1");
+  EXPECT_EQ(on["collisions"].get<long>(), 0);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(ExploreCli, TakesTheSideBranchOfATMetFromItsBar) {
   const auto out = TempDir("tee");
   std::filesystem::create_directories(out.parent_path());

@@ -345,6 +345,9 @@ struct ToyPlan {
   // smooth where the column's ray meets a wall within the blind range, the floor's texture elsewhere.
   bool bottom_texture = false;
   bool smooth_tiles = false;  // ...and two columns in 16 smooth wherever they look (a tile's interior)
+  // Every this-many-th sonar frame (counting from the second) the glance reads a corridor's
+  // entropy whatever it faces (a box up close whose entropy hovers at the threshold); 0: never.
+  int open_entropy_every = 0;
   std::vector<float> texture;
   static constexpr double kBlind = 1.2;
 
@@ -382,6 +385,7 @@ struct ToyPlan {
     const double heading_deg = RadToDeg(WrapPi(pose.yaw - axis));
     const double ahead = Ray(pose.x, pose.y, pose.yaw);
     p.glance_entropy_nats = (ahead > 1.2 ? kOpenEntropy : kWallEntropy) - 0.2 * std::abs(heading_deg) / 45.0;
+    if (open_entropy_every > 0 && (frame / 3) % open_entropy_every == 1) p.glance_entropy_nats = kOpenEntropy;
     p.processed = frame % 3 == 0;
     if (p.processed) {
       const double left = std::min(1.5, Ray(pose.x, pose.y, axis + kPi / 2));
@@ -802,11 +806,12 @@ TEST(Explorer, BlindViewColumnsWithASmoothBottomStayBlocked) {
 // the far wall and the floor beyond the blind range are read: no blind view. The unknown columns
 // facing the near wall have a smooth bottom where every column showing floor is textured, so
 // with blind_texture_ratio (and blind_texture_unknown) they read blocked near; not where some
-// columns showing floor are smooth too (a tiled floor), whose smoothness proves nothing.
+// columns showing floor are smooth too (a tiled floor), whose smoothness proves nothing. The robot
+// starts there, so blind_texture_start_m (the rule over the first metres only) does as well.
 TEST(Explorer, UnknownColumnsWithASmoothBottomBesideTexturedFloorStayBlocked) {
-  for (const int variant : {0, 1, 2}) {  // the rule off; on; on over smooth tiles
+  for (const int variant : {0, 1, 2, 3}) {  // the rule off; on; on over smooth tiles; on for the first 2 m only
     SCOPED_TRACE(variant);
-    const bool unknown_rule = variant == 1;
+    const bool unknown_rule = variant == 1 || variant == 3;
     ToyPlan world;
     world.walls = {{-1, 1, 20, 1, false}, {-1, -1, 20, -1}, {-1, -1, -1, 1}, {20, -1, 20, 1}};
     world.pose = {1.0, 0.6, DegToRad(13.0)};
@@ -815,7 +820,8 @@ TEST(Explorer, UnknownColumnsWithASmoothBottomBesideTexturedFloorStayBlocked) {
     world.glance_bias_deg = -8.0;
     ExplorerOptions o;
     o.blind_texture_ratio = 0.35;
-    o.blind_texture_unknown = variant != 0;
+    o.blind_texture_unknown = variant == 1 || variant == 2;
+    o.blind_texture_start_m = variant == 3 ? 2.0 : 0.0;
     Explorer explorer(o);
     double nearest = 1e9;
     for (int i = 0; i < 30 * 20; ++i) {
@@ -829,6 +835,32 @@ TEST(Explorer, UnknownColumnsWithASmoothBottomBesideTexturedFloorStayBlocked) {
     } else {
       EXPECT_LT(nearest, 0.25);
       EXPECT_EQ(explorer.BlindTextureColumns(), 0);
+    }
+  }
+}
+
+// A robot standing 0.5 m before a wall (every sonar column blocked near) whose glance reads a
+// corridor's entropy on every other sonar frame: each such frame is a blind view (its columns
+// read unknown, and the guard would let the robot drive on) unless wall_view_hold_m holds the
+// last wall view's verdict for views taken from (about) the same place and yaw.
+TEST(Explorer, ABlindViewTakenWhereAWallWasJustSeenIsAWall) {
+  for (const double hold_m : {0.0, 0.1}) {
+    SCOPED_TRACE(hold_m);
+    ToyPlan world;
+    world.walls = {{-1, 1, 1.5, 1}, {-1, -1, 1.5, -1}, {-1, -1, -1, 1}, {1.5, -1, 1.5, 1}};
+    world.pose = {1.0, 0.0, 0.0};
+    world.open_entropy_every = 2;
+    ExplorerOptions o;
+    o.wall_view_hold_m = hold_m;
+    Explorer explorer(o);
+    for (int i = 0; i < 30 * 4; ++i) {
+      explorer.Step(world.Perceive());
+      ++world.frame;  // the robot stays where it is
+    }
+    if (hold_m > 0.0) {
+      EXPECT_EQ(explorer.BlindViews(), 0);
+    } else {
+      EXPECT_GE(explorer.BlindViews(), 15);
     }
   }
 }
