@@ -101,6 +101,8 @@ struct ExplorerVariants {
   double scan_wall_lines = 0.0;
   // A blind view near (travel, yaw) the last wall view is a wall (ExplorerOptions::wall_view_hold_m; 0: off).
   double wall_view_hold_m = 0.0;
+  // The drive to a mouth's centre trusts the floor seen on the way in (ExplorerOptions::shift_trusts_memory; off).
+  bool shift_trusts_memory = false;
   // An end the sonar reads this close makes the branch ahead a wall whatever the map says
   // (ExplorerOptions::sonar_end_blocks_m; 0: off; 1.0 since session 18).
   double sonar_end_blocks_m = 1.0;
@@ -133,6 +135,7 @@ struct ExplorerVariants {
     ro.explorer.blind_texture_start_m = blind_texture_start_m;
     ro.explorer.scan_wall_lines = scan_wall_lines;
     ro.explorer.wall_view_hold_m = wall_view_hold_m;
+    ro.explorer.shift_trusts_memory = shift_trusts_memory;
     ro.explorer.sonar_end_blocks_m = sonar_end_blocks_m;
   }
 
@@ -206,6 +209,8 @@ struct ExplorerVariants {
                     text("A view blind to the visual sonar taken within this wheel travel (metres) and 10 degrees of yaw of the last view judged a wall filling the view is a wall too, so a glance entropy hovering at the threshold does not let the robot drive into a box up close (0: off; docs/explore.md, session 19)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 10.0));
+    cmd->add_flag("--shift-trusts-memory,!--no-shift-trusts-memory", shift_trusts_memory,
+                  text("The drive forward to a side branch's mouth centre ignores blocked-near sonar columns where the floor was seen from farther back, as following does after 1.6 m, when the robot came that far along the corridor: a tiled floor's joints no longer hold it short of the centre (off by default; docs/explore.md, session 19)"));
     cmd->add_option("--sonar-end-blocks", sonar_end_blocks_m,
                     text("An end read by the visual sonar with less free travel ahead than this (metres) makes the branch ahead a wall even where the map holds it explored, so the robot does not go straight on into what it sees (0: off; 1.0 by default since session 18; docs/explore.md, session 18)"))
         ->capture_default_str()

@@ -386,8 +386,11 @@ bool Explorer::UseBlocked(double yaw) const {
   // then block only the narrow sector (on textured floors they are mostly floor without a visible
   // step).
   // Likewise while crossing the floor edge of an opening just turned into (floor_edge_band_).
-  return !(state_ == ExploreState::kFollow &&
-           (travel_in_corridor_m_ >= opt_.trust_memory_after_m || floor_edge_band_.has_value()) &&
+  // And on the drive forward to a mouth's centre, when the robot came along (shift_trusts_memory).
+  const bool shifting = opt_.shift_trusts_memory && state_ == ExploreState::kTurn && shift_m_ > 0.0 &&
+                        travel_in_corridor_m_ >= opt_.trust_memory_after_m;
+  return !((shifting || (state_ == ExploreState::kFollow &&
+                         (travel_in_corridor_m_ >= opt_.trust_memory_after_m || floor_edge_band_.has_value()))) &&
            std::abs(WrapPi(yaw - axis_yaw_odom_)) < DegToRad(45.0));
 }
 

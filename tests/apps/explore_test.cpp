@@ -330,6 +330,23 @@ TEST(ExploreCli, AWallViewHeldKeepsTheRobotOffABoxUpClose) {
   std::filesystem::remove_all(dir);
 }
 
+// corridor-8, seeded start 4 of seed 5: stopped 1.1 m short of the cross corridor's centre, the
+// drive along the axis to the mouth's centre is held by the tiles' joints read blocked near until
+// its time limit; the robot turns north from there, on the branch's wall line, and meets the
+// corner at 48 s. With --shift-trusts-memory the drive takes the floor seen on the way in as
+// free, reaches the centre and turns there.
+TEST(ExploreCli, TheDriveToAMouthsCentreTrustsTheFloorSeenOnTheWayIn) {
+  const auto dir = TempDir("shift-trusts-memory");
+  auto summary = [&](const std::string& name, const std::string& flag) {
+    return ExploreSummary(dir / name, "--world corridor-8 --seed 5 --eval-start 4 --minutes 0.9" + flag);
+  };
+  const nlohmann::json off = summary("off", " --no-shift-trusts-memory");
+  EXPECT_GT(off["collisions"].get<long>(), 0);
+  const nlohmann::json on = summary("on", " --shift-trusts-memory");
+  EXPECT_EQ(on["collisions"].get<long>(), 0);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(ExploreCli, TakesTheSideBranchOfATMetFromItsBar) {
   const auto out = TempDir("tee");
   std::filesystem::create_directories(out.parent_path());

@@ -394,6 +394,13 @@ struct ExplorerOptions {
   // the sonar cannot see from up close), and the robot turns from there. 0: only the drive's time
   // limit ends it (`squint explore --shift-stall 0`); 0.3 since session 18 (docs/explore.md).
   double shift_stall_s = 0.3;
+  // The drive forward to a mouth's centre takes the latest scan's blocked-near columns as
+  // following does after trust_memory_after_m (only the narrow sector, and not where the floor was
+  // seen from farther back) when the robot came that far along the corridor: it saw the floor
+  // ahead on its way in, and a tiled floor's joints read blocked near there held the drive for its
+  // whole time limit, so the robot turned into the branch a metre short of its centre and met the
+  // corner (corridor-8, start 4 of seed 5). Off by default (`squint explore --shift-trusts-memory`).
+  bool shift_trusts_memory = false;
   ObstacleMemoryOptions memory;
   TopoMapOptions map;
 
