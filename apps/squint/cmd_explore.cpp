@@ -103,6 +103,8 @@ struct ExplorerVariants {
   double wall_view_hold_m = 0.0;
   // The drive to a mouth's centre trusts the floor seen on the way in (ExplorerOptions::shift_trusts_memory; off).
   bool shift_trusts_memory = false;
+  // Brick lines count for this long (ExplorerOptions::wall_lines_hold_s; 0: the latest frame).
+  double wall_lines_hold_s = 0.0;
   // An end the sonar reads this close makes the branch ahead a wall whatever the map says
   // (ExplorerOptions::sonar_end_blocks_m; 0: off; 1.0 since session 18).
   double sonar_end_blocks_m = 1.0;
@@ -136,6 +138,7 @@ struct ExplorerVariants {
     ro.explorer.scan_wall_lines = scan_wall_lines;
     ro.explorer.wall_view_hold_m = wall_view_hold_m;
     ro.explorer.shift_trusts_memory = shift_trusts_memory;
+    ro.explorer.wall_lines_hold_s = wall_lines_hold_s;
     ro.explorer.sonar_end_blocks_m = sonar_end_blocks_m;
   }
 
@@ -211,6 +214,10 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 10.0));
     cmd->add_flag("--shift-trusts-memory,!--no-shift-trusts-memory", shift_trusts_memory,
                   text("The drive forward to a side branch's mouth centre ignores blocked-near sonar columns where the floor was seen from farther back, as following does after 1.6 m, when the robot came that far along the corridor: a tiled floor's joints no longer hold it short of the centre (off by default; docs/explore.md, session 19)"));
+    cmd->add_option("--wall-lines-hold", wall_lines_hold_s,
+                    text("A brick wall's lines seen by the visual sonar within this many seconds keep the remembered floor from overruling its blocked-near columns, not the latest frame's alone (0: the latest frame; docs/explore.md, session 19)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 60.0));
     cmd->add_option("--sonar-end-blocks", sonar_end_blocks_m,
                     text("An end read by the visual sonar with less free travel ahead than this (metres) makes the branch ahead a wall even where the map holds it explored, so the robot does not go straight on into what it sees (0: off; 1.0 by default since session 18; docs/explore.md, session 18)"))
         ->capture_default_str()

@@ -84,6 +84,7 @@ std::string ExplorerOptions::Validate() const {
   if (!(blind_texture_ratio >= 0.0 && blind_texture_ratio < 1.0)) return "blind_texture_ratio must be in [0, 1)";
   if (!(wall_view_hold_m >= 0.0 && wall_view_hold_m <= 10.0)) return "wall_view_hold_m must be in [0, 10]";
   if (!(wall_view_hold_deg > 0.0 && wall_view_hold_deg <= 180.0)) return "wall_view_hold_deg must be in (0, 180]";
+  if (!(wall_lines_hold_s >= 0.0 && wall_lines_hold_s <= 60.0)) return "wall_lines_hold_s must be in [0, 60]";
   if (!(scan_wall_lines >= 0.0 && scan_wall_lines <= 1.0)) return "scan_wall_lines must be in [0, 1]";
   if (!(blind_texture_start_m >= 0.0 && blind_texture_start_m <= 1000.0)) return "blind_texture_start_m must be in [0, 1000]";
   if (!Positive(blind_texture_min_floor)) return "blind_texture_min_floor must be positive";
@@ -340,6 +341,12 @@ void Explorer::UpdateSonar(const Percept& p) {
   sonar_seen_ = true;
   last_scan_yaw_ = p.odom_T_robot.yaw;
   last_wall_lines_ = p.sonar_wall_lines;
+  if (opt_.wall_lines_hold_s > 0.0) {
+    while (!wall_lines_recent_.empty() && p.stamp_s - wall_lines_recent_.front().first > opt_.wall_lines_hold_s)
+      wall_lines_recent_.pop_front();
+    wall_lines_recent_.emplace_back(p.stamp_s, p.sonar_wall_lines);
+    for (const auto& [stamp, fraction] : wall_lines_recent_) last_wall_lines_ = std::max(last_wall_lines_, fraction);
+  }
 }
 
 const std::vector<float>* Explorer::BlindTexture(const Percept& p) {

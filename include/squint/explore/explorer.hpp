@@ -4,8 +4,10 @@
 // branches. Input: camera-derived Percepts and wheel odometry only; output: (v, ω) commands.
 #pragma once
 
+#include <deque>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "squint/explore/obstacle_memory.hpp"
@@ -401,6 +403,11 @@ struct ExplorerOptions {
   // whole time limit, so the robot turned into the branch a metre short of its centre and met the
   // corner (corridor-8, start 4 of seed 5). Off by default (`squint explore --shift-trusts-memory`).
   bool shift_trusts_memory = false;
+  // trust_memory_max_wall_lines takes the largest wall-line fraction of the sonar frames over the
+  // last wall_lines_hold_s seconds, not the latest frame's alone: approaching a brick wall's corner
+  // the lines come and go from frame to frame as the brick leaves the view (corridor-9, start 9 of
+  // seed 14). 0: the latest frame only.
+  double wall_lines_hold_s = 0.0;
   ObstacleMemoryOptions memory;
   TopoMapOptions map;
 
@@ -731,7 +738,8 @@ class Explorer {
   bool view_is_wall_ = false;  // this step's sonar view read as a wall filling the view
   bool sonar_seen_ = false;
   double last_scan_yaw_ = 0.0;
-  double last_wall_lines_ = 0.0;  // the latest scan's Percept::sonar_wall_lines
+  double last_wall_lines_ = 0.0;  // the latest scan's Percept::sonar_wall_lines (over wall_lines_hold_s)
+  std::deque<std::pair<double, double>> wall_lines_recent_;  // (stamp, fraction) within wall_lines_hold_s
   long speed_limited_ = 0;
   bool rescan_ = false;  // the scan under way is a recovery (keeps the map frame)
 
