@@ -94,17 +94,19 @@ struct ExplorerVariants {
   // With --blind-texture, also the sonar's own unknown columns (ExplorerOptions::blind_texture_unknown; off).
   bool blind_texture_unknown = false;
   // --blind-texture-unknown's rule until the robot has driven this far since its start
-  // (ExplorerOptions::blind_texture_start_m; 0: off).
-  double blind_texture_start_m = 0.0;
+  // (ExplorerOptions::blind_texture_start_m; 0: off; 2.0 since session 19).
+  double blind_texture_start_m = 2.0;
   // A scan's view with a brick wall's lines across this fraction of the sonar's bands is a wall
-  // view (ExplorerOptions::scan_wall_lines; 0: off).
-  double scan_wall_lines = 0.0;
-  // A blind view near (travel, yaw) the last wall view is a wall (ExplorerOptions::wall_view_hold_m; 0: off).
+  // view (ExplorerOptions::scan_wall_lines; 0: off; 0.75 since session 19).
+  double scan_wall_lines = 0.75;
+  // A blind view near (travel, yaw, time) the last wall view is a wall (ExplorerOptions::wall_view_hold_m;
+  // 0: off, the default: it costs `default`'s middle corridor; docs/explore.md, session 19).
   double wall_view_hold_m = 0.0;
-  // The drive to a mouth's centre trusts the floor seen on the way in (ExplorerOptions::shift_trusts_memory; off).
-  bool shift_trusts_memory = false;
-  // Brick lines count for this long (ExplorerOptions::wall_lines_hold_s; 0: the latest frame).
-  double wall_lines_hold_s = 0.0;
+  // The drive to a mouth's centre trusts the floor seen on the way in (ExplorerOptions::shift_trusts_memory;
+  // on since session 19).
+  bool shift_trusts_memory = true;
+  // Brick lines count for this long (ExplorerOptions::wall_lines_hold_s; 0: the latest frame; 1.0 since session 19).
+  double wall_lines_hold_s = 1.0;
   // An end the sonar reads this close makes the branch ahead a wall whatever the map says
   // (ExplorerOptions::sonar_end_blocks_m; 0: off; 1.0 since session 18).
   double sonar_end_blocks_m = 1.0;
@@ -201,21 +203,21 @@ struct ExplorerVariants {
     cmd->add_flag("--blind-texture-unknown,!--no-blind-texture-unknown", blind_texture_unknown,
                   text("With --blind-texture: outside blind views too, a column the sonar reads unknown stays blocked near where its bottom is smooth, if every column the sonar shows floor in is textured at the bottom (off by default: corridor-2's seeded starts' coverage 0.82 -> 0.73; docs/explore.md, session 18)"));
     cmd->add_option("--blind-texture-start", blind_texture_start_m,
-                    text("With --blind-texture: --blind-texture-unknown's rule applies until the robot has driven this far (metres) since its start, a start close to a wall of the floor's grey (0: off; docs/explore.md, session 19)"))
+                    text("With --blind-texture: --blind-texture-unknown's rule applies until the robot has driven this far (metres) since its start, or until the robot first stalls: a start close to a wall of the floor's grey (0: off; 2.0 by default since session 19; docs/explore.md, session 19)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 100.0));
     cmd->add_option("--scan-wall-lines", scan_wall_lines,
-                    text("Scanning in place, a view whose visual-sonar frame shows periodic horizontal lines (a brick wall's mortar) across at least this fraction of its bands counts as a wall filling the view, so the scan does not set off toward it (0: off; docs/explore.md, session 19)"))
+                    text("Scanning in place, a view whose visual-sonar frame shows periodic horizontal lines (a brick wall's mortar) across at least this fraction of its bands counts as a wall filling the view, so the scan does not set off toward it (0: off; 0.75 by default since session 19; docs/explore.md, session 19)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--wall-view-hold", wall_view_hold_m,
-                    text("A view blind to the visual sonar taken within this wheel travel (metres) and 10 degrees of yaw of the last view judged a wall filling the view is a wall too, so a glance entropy hovering at the threshold does not let the robot drive into a box up close (0: off; docs/explore.md, session 19)"))
+                    text("A view blind to the visual sonar taken within this wheel travel (metres), 10 degrees of yaw and 1 s of the last view judged a wall filling the view is a wall too, so a glance entropy hovering at the threshold does not let the robot drive into a box up close (0: off, the default, since it cost `default`'s 45-minute runs its carpeted middle corridor on 8 of 32 seeds; docs/explore.md, session 19)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 10.0));
     cmd->add_flag("--shift-trusts-memory,!--no-shift-trusts-memory", shift_trusts_memory,
-                  text("The drive forward to a side branch's mouth centre ignores blocked-near sonar columns where the floor was seen from farther back, as following does after 1.6 m, when the robot came that far along the corridor: a tiled floor's joints no longer hold it short of the centre (off by default; docs/explore.md, session 19)"));
+                  text("The drive forward to a side branch's mouth centre ignores blocked-near sonar columns where the floor was seen from farther back, as following does after 1.6 m, when the robot came that far along the corridor: a tiled floor's joints no longer hold it short of the centre (on by default since session 19; docs/explore.md, session 19)"));
     cmd->add_option("--wall-lines-hold", wall_lines_hold_s,
-                    text("A brick wall's lines seen by the visual sonar within this many seconds keep the remembered floor from overruling its blocked-near columns, not the latest frame's alone (0: the latest frame; docs/explore.md, session 19)"))
+                    text("A brick wall's lines seen by the visual sonar within this many seconds keep the remembered floor from overruling its blocked-near columns, not the latest frame's alone (0: the latest frame; 1.0 by default since session 19; docs/explore.md, session 19)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 60.0));
     cmd->add_option("--sonar-end-blocks", sonar_end_blocks_m,

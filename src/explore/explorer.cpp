@@ -84,6 +84,7 @@ std::string ExplorerOptions::Validate() const {
   if (!(blind_texture_ratio >= 0.0 && blind_texture_ratio < 1.0)) return "blind_texture_ratio must be in [0, 1)";
   if (!(wall_view_hold_m >= 0.0 && wall_view_hold_m <= 10.0)) return "wall_view_hold_m must be in [0, 10]";
   if (!(wall_view_hold_deg > 0.0 && wall_view_hold_deg <= 180.0)) return "wall_view_hold_deg must be in (0, 180]";
+  if (!(wall_view_hold_s > 0.0 && wall_view_hold_s <= 60.0)) return "wall_view_hold_s must be in (0, 60]";
   if (!(wall_lines_hold_s >= 0.0 && wall_lines_hold_s <= 60.0)) return "wall_lines_hold_s must be in [0, 60]";
   if (!(scan_wall_lines >= 0.0 && scan_wall_lines <= 1.0)) return "scan_wall_lines must be in [0, 1]";
   if (!(blind_texture_start_m >= 0.0 && blind_texture_start_m <= 1000.0)) return "blind_texture_start_m must be in [0, 1000]";
@@ -268,14 +269,15 @@ void Explorer::UpdateSonar(const Percept& p) {
     const bool wall_lines = opt_.blind_view_max_wall_lines > 0.0 && state_ == ExploreState::kFollow &&
                             p.sonar_wall_lines >= opt_.blind_view_max_wall_lines;
     view_is_wall_ = view && (*p.glance_entropy_nats < threshold || wall_lines);
-    if (view && !view_is_wall_ && opt_.wall_view_hold_m > 0.0 && wall_view_odometer_m_ >= 0.0 &&
-        odometer_m_ - wall_view_odometer_m_ <= opt_.wall_view_hold_m &&
-        std::abs(WrapPi(p.odom_T_robot.yaw - wall_view_yaw_)) <= DegToRad(opt_.wall_view_hold_deg)) {
-      view_is_wall_ = true;
-    }
     if (view_is_wall_) {
       wall_view_odometer_m_ = odometer_m_;
       wall_view_yaw_ = p.odom_T_robot.yaw;
+      wall_view_s_ = p.stamp_s;
+    } else if (view && opt_.wall_view_hold_m > 0.0 && wall_view_odometer_m_ >= 0.0 &&
+               odometer_m_ - wall_view_odometer_m_ <= opt_.wall_view_hold_m &&
+               p.stamp_s - wall_view_s_ <= opt_.wall_view_hold_s &&
+               std::abs(WrapPi(p.odom_T_robot.yaw - wall_view_yaw_)) <= DegToRad(opt_.wall_view_hold_deg)) {
+      view_is_wall_ = true;  // held: the entropy hovering at the threshold facing a box up close
     }
     if (view && !view_is_wall_) {
       // A corridor view in the glance, no floor contrast in the sonar: no information, except
@@ -297,7 +299,8 @@ void Explorer::UpdateSonar(const Percept& p) {
     }
   }
   const bool unknown_rule =
-      opt_.blind_texture_unknown || (opt_.blind_texture_start_m > 0.0 && odometer_m_ < opt_.blind_texture_start_m);
+      opt_.blind_texture_unknown ||
+      (opt_.blind_texture_start_m > 0.0 && odometer_m_ < opt_.blind_texture_start_m && !stalled_since_start_);
   if (tex != nullptr && !blind_view && unknown_rule) {
     // The sonar's own unknown columns (no step, the bottom rows of the floor's grey) whose bottom
     // is smooth: a wall of the floor's grey within the blind range. Only where every column the
@@ -1039,6 +1042,7 @@ Command Explorer::FollowStep(const Percept& p) {
   // Stall guard (odometry only): commanded forward for a while, the wheels did not move.
   if (stall_.Stalled(p.stamp_s, p.odom_T_robot.Translation(), opt_.stall_window_s, opt_.stall_min_progress_m)) {
     Emit(ExploreEvent::Kind::kStall, p, 0, "no wheel progress: backing off");
+    stalled_since_start_ = true;
     state_ = ExploreState::kBackOff;
     // Reversing is blind (no camera behind): with the sonar the robot only turns in place.
     backoff_until_s_ = p.stamp_s + (sonar_seen_ ? 0.0 : 2.0);

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_run.hpp"
@@ -147,10 +148,11 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
 }
 
 // The explorer as it was before session 17 made the walls' lines and their companions the
-// defaults (and without session 18's defaults).
+// defaults (and without session 18's and 19's defaults).
 const std::string kWithoutWallLines =
     " --no-wall-lines --no-end-probe-memory --no-wall-lines-binned --wall-line-free 0 --no-rearm-after-gap --no-mouth-wall-line"
-    " --arrival-min-travel 0 --shift-stall 0 --no-blind-side-lines --blind-texture 0 --no-scan-blind-start --sonar-end-blocks 0";
+    " --arrival-min-travel 0 --shift-stall 0 --no-blind-side-lines --blind-texture 0 --no-scan-blind-start --sonar-end-blocks 0"
+    " --blind-texture-start 0 --scan-wall-lines 0 --wall-view-hold 0 --no-shift-trusts-memory --wall-lines-hold 0";
 
 // --own-range-clearing (off by default), with the explorer as it was without the walls' lines
 // (session 14): obstacle-course start 1 of seed 12 sets off beside the
@@ -181,7 +183,9 @@ TEST(ExploreCli, OwnRangeClearingKeepsTheChairLegsRemembered) {
 // the axis, the glance's scattered heading lets the axis wander (more than 10° off on 42 % of the
 // following frames) and the robot meets a wall at 119 s. With the walls' lines (and the end probe
 // that the exactly held axis needs at L corners) the axis stays within 10° on 97 % and it does not;
-// so too with all of session 17's defaults.
+// so too with all of session 17's defaults. (With session 19's --blind-texture-start before its
+// rule was spent at the first stall, the defaults held the robot on open floor at this start for a
+// minute and then set it off 30° off the axis: 21 % of the frames more than 10° off.)
 TEST(ExploreCli, WallLinesHoldTheAxisWhereTheWallsHaveTheFloorsGrey) {
   const auto dir = TempDir("wall-lines");
   auto summary = [&](const std::string& name, const std::string& flag) {
@@ -277,6 +281,20 @@ TEST(ExploreCli, BlindTextureKeepsAWallOfTheFloorsGreyBlocked) {
   std::filesystem::remove_all(dir);
 }
 
+// Session 19's five rules, each switched off, but for the one named (so a test of one replays its
+// case as it was found, with the others as they were then).
+std::string Session19RulesOffBut(const std::string& keep) {
+  const std::vector<std::pair<std::string, std::string>> rules = {{"--blind-texture-start", " --blind-texture-start 0"},
+                                                                  {"--scan-wall-lines", " --scan-wall-lines 0"},
+                                                                  {"--wall-view-hold", " --wall-view-hold 0"},
+                                                                  {"--shift-trusts-memory", " --no-shift-trusts-memory"},
+                                                                  {"--wall-lines-hold", " --wall-lines-hold 0"}};
+  std::string flags;
+  for (const auto& [name, off] : rules)
+    if (name != keep) flags += off;
+  return flags;
+}
+
 // corridor-2, seeded start 2 ("close to a wall") of seed 6: 0.3 m from the turn corridor's east
 // wall, heading 10° into it. The wall's panels have the carpet's grey, so the sonar reads its
 // columns unknown without a blind view (the far wall and the floor are read), and the robot meets
@@ -285,7 +303,7 @@ TEST(ExploreCli, BlindTextureKeepsAWallOfTheFloorsGreyBlocked) {
 TEST(ExploreCli, BlindTextureStartKeepsACloseStartOffAWallOfTheFloorsGrey) {
   const auto dir = TempDir("blind-texture-start");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world corridor-2 --seed 6 --eval-start 2 --minutes 0.3" + flag);
+    return ExploreSummary(dir / name, "--world corridor-2 --seed 6 --eval-start 2 --minutes 0.3" + Session19RulesOffBut("--blind-texture-start") + flag);
   };
   const nlohmann::json off = summary("off", " --blind-texture-start 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -303,7 +321,7 @@ TEST(ExploreCli, BlindTextureStartKeepsACloseStartOffAWallOfTheFloorsGrey) {
 TEST(ExploreCli, AScanDoesNotSetOffIntoABrickWallUpClose) {
   const auto dir = TempDir("scan-wall-lines");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world corridor-9 --seed 14 --eval-start 7 --minutes 0.3" + flag);
+    return ExploreSummary(dir / name, "--world corridor-9 --seed 14 --eval-start 7 --minutes 0.3" + Session19RulesOffBut("--scan-wall-lines") + flag);
   };
   const nlohmann::json off = summary("off", " --scan-wall-lines 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -321,7 +339,7 @@ TEST(ExploreCli, AScanDoesNotSetOffIntoABrickWallUpClose) {
 TEST(ExploreCli, AWallViewHeldKeepsTheRobotOffABoxUpClose) {
   const auto dir = TempDir("wall-view-hold");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world obstacle-course --seed 5 --eval-start 3 --minutes 2.9" + flag);
+    return ExploreSummary(dir / name, "--world obstacle-course --seed 5 --eval-start 3 --minutes 2.9" + Session19RulesOffBut("--wall-view-hold") + flag);
   };
   const nlohmann::json off = summary("off", " --wall-view-hold 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -338,7 +356,7 @@ TEST(ExploreCli, AWallViewHeldKeepsTheRobotOffABoxUpClose) {
 TEST(ExploreCli, TheDriveToAMouthsCentreTrustsTheFloorSeenOnTheWayIn) {
   const auto dir = TempDir("shift-trusts-memory");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world corridor-8 --seed 5 --eval-start 4 --minutes 0.9" + flag);
+    return ExploreSummary(dir / name, "--world corridor-8 --seed 5 --eval-start 4 --minutes 0.9" + Session19RulesOffBut("--shift-trusts-memory") + flag);
   };
   const nlohmann::json off = summary("off", " --no-shift-trusts-memory");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -356,7 +374,7 @@ TEST(ExploreCli, TheDriveToAMouthsCentreTrustsTheFloorSeenOnTheWayIn) {
 TEST(ExploreCli, BrickLinesHeldOverASecondKeepTheRobotOffABrickCorner) {
   const auto dir = TempDir("wall-lines-hold");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world corridor-9 --seed 14 --eval-start 9 --minutes 1.7" + flag);
+    return ExploreSummary(dir / name, "--world corridor-9 --seed 14 --eval-start 9 --minutes 1.7" + Session19RulesOffBut("--wall-lines-hold") + flag);
   };
   const nlohmann::json off = summary("off", " --wall-lines-hold 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);

@@ -76,8 +76,8 @@ struct ExplorerOptions {
   // in at least this fraction of its column bands (Percept::sonar_wall_lines) counts as a wall
   // view too: a brick wall up close, whose mortar the sonar reads as floor running far (corridor-9,
   // a start 0.65 m from the brick side wall: no column blocked, the scan set off into it).
-  // 0 turns it off.
-  double scan_wall_lines = 0.0;
+  // 0 turns it off (`squint explore --scan-wall-lines 0`); 0.75 since session 19.
+  double scan_wall_lines = 0.75;
   // The corridor axis checked against the walls the memory holds (ObstacleMemory::WallAxisMod90,
   // trusted with at least wall_axis_min_pairs pairs and wall_axis_min_strength): a scan takes the
   // walls' axis where the glance's differs from it by more than 10 degrees, a probe first snaps
@@ -272,12 +272,17 @@ struct ExplorerOptions {
   // or above start_corridor_entropy_nats. 0 turns this off.
   double blind_view_fraction = 0.75;
   double blind_view_entropy_ratio = 0.85;
-  // A blind view taken within wall_view_hold_m of wheel travel and wall_view_hold_deg of yaw of the
-  // last view judged a wall is a wall too: the glance's entropy facing a box up close hovers at
+  // A blind view taken within wall_view_hold_m of wheel travel, wall_view_hold_deg of yaw and
+  // wall_view_hold_s of time of the last view judged a wall by its entropy is a wall too: the glance's entropy facing a box up close hovers at
   // the threshold, and one frame above it made the box's columns unknown and let the robot drive
-  // on into it (the obstacle course, start 3 of seeds 5 and 16). 0 turns it off.
+  // on into it (the obstacle course, start 3 of seed 5). Only views judged walls by their entropy
+  // are held from, so a robot standing still re-judges after wall_view_hold_s. Off by default
+  // (`squint explore --wall-view-hold 0.1`): in `default`'s carpeted middle corridor the same
+  // hovering entropy turns blind views into walls, and the 45-minute runs missed that corridor on
+  // 8 of 32 seeds (1 without it; docs/explore.md, session 19).
   double wall_view_hold_m = 0.0;
   double wall_view_hold_deg = 10.0;
+  double wall_view_hold_s = 1.0;  // ...and within this time of it (a robot standing still re-judges)
   bool blind_view_clears = true;  // such a view also clears the memory along its rays out to the blind range
   // Probing, a side whose latest scan was such a blind view read as unknown is not open by the
   // sonar's free travel (which then rests on no floor seen at all: a door recess within the blind
@@ -312,8 +317,12 @@ struct ExplorerOptions {
   bool blind_texture_unknown = false;
   // blind_texture_unknown's rule, applied only until the robot has driven this far (metres of
   // wheel travel) since its start: a robot started close to a wall of the floor's grey has no
-  // earlier view of the wall, and no false end there costs coverage (0: off).
-  double blind_texture_start_m = 0.0;
+  // earlier view of the wall, and no false end there costs coverage (corridor-2, start 2 of seeds 6
+  // and 7). The rule is spent at the first stall (the robot has stopped short of the wall, or the
+  // rule has held it on open floor: corridor-2, start 4 of seed 2, which dithered for a minute at
+  // its start and then set off 30 degrees off the axis). 0: off (`squint explore
+  // --blind-texture-start 0`); 2.0 since session 19.
+  double blind_texture_start_m = 2.0;
   int blind_texture_min_floor_columns = 8;
   // A blind view whose sonar frame shows periodic horizontal lines in at least this fraction of
   // its column bands (Percept::sonar_wall_lines: a brick wall's mortar, which keeps the glance
@@ -401,13 +410,13 @@ struct ExplorerOptions {
   // seen from farther back) when the robot came that far along the corridor: it saw the floor
   // ahead on its way in, and a tiled floor's joints read blocked near there held the drive for its
   // whole time limit, so the robot turned into the branch a metre short of its centre and met the
-  // corner (corridor-8, start 4 of seed 5). Off by default (`squint explore --shift-trusts-memory`).
-  bool shift_trusts_memory = false;
+  // corner (corridor-8, start 4 of seed 5). On since session 19 (`squint explore --no-shift-trusts-memory`).
+  bool shift_trusts_memory = true;
   // trust_memory_max_wall_lines takes the largest wall-line fraction of the sonar frames over the
   // last wall_lines_hold_s seconds, not the latest frame's alone: approaching a brick wall's corner
   // the lines come and go from frame to frame as the brick leaves the view (corridor-9, start 9 of
-  // seed 14). 0: the latest frame only.
-  double wall_lines_hold_s = 0.0;
+  // seed 14). 0: the latest frame only (`squint explore --wall-lines-hold 0`); 1.0 since session 19.
+  double wall_lines_hold_s = 1.0;
   ObstacleMemoryOptions memory;
   TopoMapOptions map;
 
@@ -626,9 +635,11 @@ class Explorer {
   int entropy_low_count_ = 0;
   double travel_in_corridor_m_ = 0.0;
   double odometer_m_ = 0.0;  // wheel travel since the start (UpdateMapPose)
-  // Where the last view judged a wall was taken (odometer_m_, odometry yaw; wall_view_hold_m).
+  bool stalled_since_start_ = false;  // the follow state's stall guard has fired (blind_texture_start_m)
+  // Where and when the last view judged a wall by its entropy was taken (wall_view_hold_m).
   double wall_view_odometer_m_ = -1.0;
   double wall_view_yaw_ = 0.0;
+  double wall_view_s_ = 0.0;
   std::vector<double> ref_entropy_;  // ring buffer of glance entropies while following
   int ref_next_ = 0;
   double last_ref_entropy_ = 0.0;
