@@ -110,6 +110,8 @@ struct ExplorerVariants {
   // An end the sonar reads this close makes the branch ahead a wall whatever the map says
   // (ExplorerOptions::sonar_end_blocks_m; 0: off; 1.0 since session 18).
   double sonar_end_blocks_m = 1.0;
+  // Creep toward a place the map holds as a dead end from this far (ExplorerOptions::known_end_slow_m; 0: off).
+  double known_end_slow_m = 0.0;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -142,6 +144,7 @@ struct ExplorerVariants {
     ro.explorer.shift_trusts_memory = shift_trusts_memory;
     ro.explorer.wall_lines_hold_s = wall_lines_hold_s;
     ro.explorer.sonar_end_blocks_m = sonar_end_blocks_m;
+    ro.explorer.known_end_slow_m = known_end_slow_m;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -224,6 +227,10 @@ struct ExplorerVariants {
                     text("An end read by the visual sonar with less free travel ahead than this (metres) makes the branch ahead a wall even where the map holds it explored, so the robot does not go straight on into what it sees (0: off; 1.0 by default since session 18; docs/explore.md, session 18)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 3.0));
+    cmd->add_option("--known-end-slow", known_end_slow_m,
+                    text("Following toward a place the map holds as a dead end, creep (a quarter of cruise speed) from this far (metres) before where the robot stopped there last: a mirror end wall shows the corridor behind and the visual sonar reads floor running on (0: off; docs/explore.md, session 20)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 20.0));
     cmd->add_flag("--scan-blind-start,!--no-scan-blind-start", scan_blind_start,
                   text("At the start, a view blind to the visual sonar (nearly all columns blocked near) is not taken for a corridor whatever the glance says: the robot looks all around first (on by default since session 18; docs/explore.md, session 18)"));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,

@@ -92,6 +92,7 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(blind_texture_hold_s)) return "blind_texture_hold_s must be >= 0";
   if (blind_texture_min_floor_columns < 1) return "blind_texture_min_floor_columns must be >= 1";
   if (!NonNegative(sonar_end_blocks_m)) return "sonar_end_blocks_m must be >= 0";
+  if (!(known_end_slow_m >= 0.0 && known_end_slow_m <= 20.0)) return "known_end_slow_m must be in [0, 20]";
   if (!NonNegative(avoid_gain)) return "avoid_gain must be >= 0";
   if (!(avoid_speed_fraction > 0.0 && avoid_speed_fraction <= 1.0)) return "avoid_speed_fraction must be in (0, 1]";
   if (!Positive(avoid_hold_s)) return "avoid_hold_s must be positive";
@@ -1081,9 +1082,25 @@ Command Explorer::FollowStep(const Percept& p) {
   }
   const double err = WrapPi(target - heading);
   cmd.omega_rps = std::clamp(opt_.heading_gain * err, -opt_.max_omega_rps, opt_.max_omega_rps);
-  const double frac = std::max(opt_.min_speed_fraction, 1.0 - std::abs(RadToDeg(err)) / opt_.slow_heading_deg);
+  double frac = std::max(opt_.min_speed_fraction, 1.0 - std::abs(RadToDeg(err)) / opt_.slow_heading_deg);
+  if (NearKnownEnd()) frac = opt_.min_speed_fraction;
   cmd.v_mps = opt_.cruise_speed_mps * frac;
   return cmd;
+}
+
+bool Explorer::NearKnownEnd() const {
+  if (opt_.known_end_slow_m <= 0.0) return false;
+  const double yaw = YawOfDirection(dir_);
+  const Eigen::Vector2d along(std::cos(yaw), std::sin(yaw));
+  const Eigen::Vector2d here = map_pose_.Translation();
+  for (const TopoNode& n : map_.Nodes()) {
+    if (n.branch[static_cast<std::size_t>(dir_)] != Branch::kWall) continue;
+    const Eigen::Vector2d rel = n.position_m - here;
+    const double ahead = rel.dot(along);
+    const double across = std::abs(rel.x() * along.y() - rel.y() * along.x());
+    if (ahead > -1.0 && ahead < opt_.known_end_slow_m && across < opt_.map.merge_radius_m) return true;
+  }
+  return false;
 }
 
 // --- Obstacle override (the obstacle pipeline's advice) ----------------------------------------

@@ -383,6 +383,26 @@ TEST(ExploreCli, BrickLinesHeldOverASecondKeepTheRobotOffABrickCorner) {
   std::filesystem::remove_all(dir);
 }
 
+// corridor-5 (a mirror at its east end), seeded start 2 of seed 6: on its second visit to the
+// mirror the robot weaves toward it 20° off the axis at full speed (the mirror shows the corridor
+// behind, the sonar reads floor running on, the fused distance 4-6 m) and its disc meets the end
+// wall at 152.6 s, before the end is detected. The map holds that end a dead end since the first
+// visit; with --known-end-slow 3 the robot creeps over the last metres to it and stops clear.
+TEST(ExploreCli, TheRobotCreepsTowardAPlaceTheMapHoldsADeadEnd) {
+  const auto dir = TempDir("known-end-slow");
+  auto summary = [&](const std::string& name, const std::string& flag) {
+    return ExploreSummary(dir / name, "--world corridor-5 --seed 6 --eval-start 2 --minutes 3" + flag);
+  };
+  const nlohmann::json off = summary("off", " --known-end-slow 0");
+  EXPECT_GT(off["collisions"].get<long>(), 0);
+  EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
+  EXPECT_GT(off["first_collision_x_m"].get<double>(), 25.0);  // at the mirror end (the east one)
+  const nlohmann::json on = summary("on", " --known-end-slow 3");
+  EXPECT_EQ(on["collisions"].get<long>(), 0);
+  EXPECT_GE(on["ends_detected"].get<long>(), 3);  // both ends, and the mirror again
+  std::filesystem::remove_all(dir);
+}
+
 TEST(ExploreCli, TakesTheSideBranchOfATMetFromItsBar) {
   const auto out = TempDir("tee");
   std::filesystem::create_directories(out.parent_path());

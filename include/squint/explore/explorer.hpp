@@ -296,6 +296,13 @@ struct ExplorerOptions {
   // is blocked now, and "straight on" there drove the obstacle course's robot into a bin 0.5 m
   // ahead. 1.0 since session 18; 0 turns it off (`squint explore --sonar-end-blocks 0`).
   double sonar_end_blocks_m = 1.0;
+  // Following toward a place the map holds as a dead end (a node whose branch ahead is a wall)
+  // the robot creeps (min_speed_fraction of cruise) from this far (metres of map travel) before
+  // the node's position to 1 m past it, whatever the glance and the sonar say: a mirror end wall
+  // shows the corridor behind and the sonar reads floor running on, and on the second visit the
+  // robot met corridor-5's mirror at full speed (start 2 of seed 6). 0 turns it off
+  // (`squint explore --known-end-slow M`).
+  double known_end_slow_m = 0.0;
   // In a blind view read as unknown (blind_view_entropy_ratio), a blocked-near sonar column stays
   // blocked near where the walls' lines' frame shows its bottom smooth: that column's mean bottom
   // texture (Percept::wall_bottom_texture) below this fraction of the floor's (the frame's 90th
@@ -530,6 +537,7 @@ class Explorer {
   // Side branches while following: updates the two side tracks from the sonar memory; returns
   // true when the robot stopped at a junction (state changed to kProbe).
   bool TrackSides(const Percept& p);
+  bool NearKnownEnd() const;  // known_end_slow_m
   bool OnOpening(const Percept& p, int side, double width_m);
   // The side branch's centre line along the axis from the robot (metres, ahead positive), from the
   // remembered walls of its mouth (mouth_centre_min_m); false when they do not show one.
