@@ -359,7 +359,12 @@ const std::vector<float>* Explorer::BlindTexture(const Percept& p) {
   v.assign(p.wall_bottom_texture->begin(), p.wall_bottom_texture->end());
   const std::size_t k = (v.size() * 9) / 10;
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  if (v[k] >= opt_.blind_texture_min_floor) {
+  // blind_texture_keep_ref: a frame smooth all over by the floor's recent reference (a wall of
+  // plain paint filling the view, no floor below it) does not become the reference itself.
+  const bool held = p.stamp_s - floor_texture_ref_s_ <= opt_.blind_texture_hold_s;
+  const bool smooth_all_over = opt_.blind_texture_keep_ref && held && floor_texture_ref_ > 0.0 &&
+                               v[k] < opt_.blind_texture_ratio * floor_texture_ref_;
+  if (v[k] >= opt_.blind_texture_min_floor && !smooth_all_over) {
     floor_texture_ref_ = v[k];
     floor_texture_ref_s_ = p.stamp_s;
   }

@@ -403,6 +403,26 @@ TEST(ExploreCli, TheRobotCreepsTowardAPlaceTheMapHoldsADeadEnd) {
   std::filesystem::remove_all(dir);
 }
 
+// corridor-6 (tiles, plain painted walls and doors), seeded start 4 of seed 12: a door read as a
+// side branch, the robot turns into it. From 1 m the door fills the view, no floor below it: every
+// sonar column blocked near, the glance's entropy at the blind-view threshold, so the view is
+// read blind. The door's bottom then became the floor's texture reference itself, no column read
+// smooth, and the robot drove on into the door (79.2 s). With --blind-texture-keep-ref the tiles'
+// reference is kept, the door's columns stay blocked near and the robot stops.
+TEST(ExploreCli, APlainDoorFillingTheViewIsNotTakenForTheFloor) {
+  const auto dir = TempDir("blind-texture-keep-ref");
+  auto summary = [&](const std::string& name, const std::string& flag) {
+    return ExploreSummary(dir / name, "--world corridor-6 --seed 12 --eval-start 4 --minutes 1.5" + flag);
+  };
+  const nlohmann::json off = summary("off", " --no-blind-texture-keep-ref");
+  EXPECT_GT(off["collisions"].get<long>(), 0);
+  EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
+  EXPECT_LT(off["first_collision_y_m"].get<double>(), -0.8);  // in the door on the south side
+  const nlohmann::json on = summary("on", " --blind-texture-keep-ref");
+  EXPECT_EQ(on["collisions"].get<long>(), 0);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(ExploreCli, TakesTheSideBranchOfATMetFromItsBar) {
   const auto out = TempDir("tee");
   std::filesystem::create_directories(out.parent_path());

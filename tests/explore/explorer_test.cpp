@@ -345,6 +345,7 @@ struct ToyPlan {
   // smooth where the column's ray meets a wall within the blind range, the floor's texture elsewhere.
   bool bottom_texture = false;
   bool smooth_tiles = false;  // ...and two columns in 16 smooth wherever they look (a tile's interior)
+  float wall_texture = 0.5f;  // a wall's bottom texture (a rendered paint's noise: 2.5-3 grey levels)
   // Every this-many-th sonar frame (counting from the second) the glance reads a corridor's
   // entropy whatever it faces (a box up close whose entropy hovers at the threshold); 0: never.
   int open_entropy_every = 0;
@@ -418,7 +419,7 @@ struct ToyPlan {
         for (int u = 0; u < 128; ++u) {
           const double bearing = DegToRad(30.0 - 60.0 * (u + 0.5) / 128.0);
           texture[static_cast<std::size_t>(u)] =
-              Ray(pose.x, pose.y, pose.yaw + bearing) < kBlind || (smooth_tiles && u % 16 >= 8 && u % 16 < 10) ? 0.5f : 8.0f;
+              Ray(pose.x, pose.y, pose.yaw + bearing) < kBlind || (smooth_tiles && u % 16 >= 8 && u % 16 < 10) ? wall_texture : 8.0f;
         }
         p.wall_bottom_texture = &texture;
       }
@@ -862,6 +863,42 @@ TEST(Explorer, ABlindViewTakenWhereAWallWasJustSeenIsAWall) {
     } else {
       EXPECT_GE(explorer.BlindViews(), 15);
     }
+  }
+}
+
+// A robot that has seen the textured floor (x = 1) stands 0.6 m before an end wall of plain paint
+// that fills its whole view (x = 5.4), the glance reading a corridor's entropy on every other sonar
+// frame (the entropy hovering at the threshold): those frames are blind views. The wall's bottom
+// (2.5 grey levels, above blind_texture_min_floor) became the floor's texture reference itself, so
+// no column read smooth and the blind views' columns were unknown (the guard lets the robot on).
+// With blind_texture_keep_ref the floor's reference (8) is kept: every column of those views reads
+// smooth and stays blocked near.
+TEST(Explorer, AWallFillingTheViewDoesNotBecomeTheFloorsTexture) {
+  for (const bool keep : {false, true}) {
+    SCOPED_TRACE(keep);
+    ToyPlan world;
+    world.walls = {{-1, 1, 6, 1}, {-1, -1, 6, -1}, {-1, -1, -1, 1}, {6, -1, 6, 1}};
+    world.pose = {1.0, 0.0, 0.0};
+    world.bottom_texture = true;
+    world.wall_texture = 2.5f;
+    world.open_entropy_every = 2;
+    ExplorerOptions o;
+    o.blind_texture_ratio = 0.35;
+    o.blind_texture_keep_ref = keep;
+    Explorer explorer(o);
+    for (int i = 0; i < 6; ++i) {
+      explorer.Step(world.Perceive());
+      ++world.frame;  // the robot looks down the corridor
+    }
+    ASSERT_EQ(explorer.BlindViews(), 0);
+    ASSERT_EQ(explorer.BlindTextureColumns(), 0);
+    world.pose.x = 5.4;
+    for (int i = 0; i < 30 * 4; ++i) {
+      explorer.Step(world.Perceive());
+      ++world.frame;  // standing before the wall
+    }
+    EXPECT_GE(explorer.BlindViews(), 15);
+    EXPECT_EQ(explorer.BlindTextureColumns(), keep ? 64 * explorer.BlindViews() : 0);
   }
 }
 

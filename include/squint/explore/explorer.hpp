@@ -321,6 +321,12 @@ struct ExplorerOptions {
   double blind_texture_ratio = 0.35;
   double blind_texture_min_floor = 2.0;
   double blind_texture_hold_s = 10.0;
+  // The floor's reference is not taken from a frame whose 90th percentile is itself below
+  // blind_texture_ratio x the reference held (within blind_texture_hold_s): a door of plain paint
+  // filling the view up close, no floor below it, became its own "floor" and nothing in it read
+  // smooth, so the blind view let the robot on into the door (corridor-6, start 4 of seed 12).
+  // Off: `squint explore --no-blind-texture-keep-ref`.
+  bool blind_texture_keep_ref = false;
   bool blind_texture_unknown = false;
   // blind_texture_unknown's rule, applied only until the robot has driven this far (metres of
   // wheel travel) since its start: a robot started close to a wall of the floor's grey has no
