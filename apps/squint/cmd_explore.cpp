@@ -112,8 +112,9 @@ struct ExplorerVariants {
   double sonar_end_blocks_m = 1.0;
   // Creep toward a place the map holds as a dead end from this far (ExplorerOptions::known_end_slow_m; 0: off).
   double known_end_slow_m = 0.0;
-  // A view smooth all over does not become the floor's texture reference (ExplorerOptions::blind_texture_keep_ref).
-  bool blind_texture_keep_ref = false;
+  // A view smooth all over does not become the floor's texture reference (ExplorerOptions::blind_texture_keep_ref;
+  // on since session 20).
+  bool blind_texture_keep_ref = true;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -231,11 +232,11 @@ struct ExplorerVariants {
         ->capture_default_str()
         ->check(CLI::Range(0.0, 3.0));
     cmd->add_option("--known-end-slow", known_end_slow_m,
-                    text("Following toward a place the map holds as a dead end, creep (a quarter of cruise speed) from this far (metres) before where the robot stopped there last: a mirror end wall shows the corridor behind and the visual sonar reads floor running on (0: off; docs/explore.md, session 20)"))
+                    text("Following toward a place the map holds as a dead end, creep (a quarter of cruise speed) from this far (metres) before where the robot stopped there last, a place whose branches ahead and to both sides are walls: a mirror end wall shows the corridor behind and the visual sonar reads floor running on (0: off, the default: it cost corridor-2's seeded starts coverage; docs/explore.md, session 20)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 20.0));
     cmd->add_flag("--blind-texture-keep-ref,!--no-blind-texture-keep-ref", blind_texture_keep_ref,
-                  text("With --blind-texture: a view whose bottom is smooth all over by the floor's recent texture (a plain door or wall filling the view up close, no floor below it) does not become the floor's texture reference, so its columns stay blocked near (off by default; docs/explore.md, session 20)"));
+                  text("With --blind-texture: a view whose bottom is smooth all over by the floor's recent texture (a plain door or wall filling the view up close, no floor below it) does not become the floor's texture reference, so its columns stay blocked near (on by default since session 20; docs/explore.md, session 20)"));
     cmd->add_flag("--scan-blind-start,!--no-scan-blind-start", scan_blind_start,
                   text("At the start, a view blind to the visual sonar (nearly all columns blocked near) is not taken for a corridor whatever the glance says: the robot looks all around first (on by default since session 18; docs/explore.md, session 18)"));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,

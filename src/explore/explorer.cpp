@@ -1099,7 +1099,9 @@ bool Explorer::NearKnownEnd() const {
   const Eigen::Vector2d along(std::cos(yaw), std::sin(yaw));
   const Eigen::Vector2d here = map_pose_.Translation();
   for (const TopoNode& n : map_.Nodes()) {
-    if (n.branch[static_cast<std::size_t>(dir_)] != Branch::kWall) continue;
+    // A dead end: walls ahead and on both sides (an L corner or a T's bar has a way on).
+    const auto wall = [&](int d) { return n.branch[static_cast<std::size_t>(d & 3)] == Branch::kWall; };
+    if (!(wall(dir_) && wall(dir_ + 1) && wall(dir_ + 3))) continue;
     const Eigen::Vector2d rel = n.position_m - here;
     const double ahead = rel.dot(along);
     const double across = std::abs(rel.x() * along.y() - rel.y() * along.x());

@@ -148,11 +148,12 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
 }
 
 // The explorer as it was before session 17 made the walls' lines and their companions the
-// defaults (and without session 18's and 19's defaults).
+// defaults (and without session 18's, 19's and 20's defaults).
 const std::string kWithoutWallLines =
     " --no-wall-lines --no-end-probe-memory --no-wall-lines-binned --wall-line-free 0 --no-rearm-after-gap --no-mouth-wall-line"
     " --arrival-min-travel 0 --shift-stall 0 --no-blind-side-lines --blind-texture 0 --no-scan-blind-start --sonar-end-blocks 0"
-    " --blind-texture-start 0 --scan-wall-lines 0 --wall-view-hold 0 --no-shift-trusts-memory --wall-lines-hold 0";
+    " --blind-texture-start 0 --scan-wall-lines 0 --wall-view-hold 0 --no-shift-trusts-memory --wall-lines-hold 0"
+    " --no-blind-texture-keep-ref";
 
 // --own-range-clearing (off by default), with the explorer as it was without the walls' lines
 // (session 14): obstacle-course start 1 of seed 12 sets off beside the
@@ -281,10 +282,12 @@ TEST(ExploreCli, BlindTextureKeepsAWallOfTheFloorsGreyBlocked) {
   std::filesystem::remove_all(dir);
 }
 
-// Session 19's five rules, each switched off, but for the one named (so a test of one replays its
-// case as it was found, with the others as they were then).
+// Session 19's five rules (and session 20's --blind-texture-keep-ref), each switched off, but for
+// the one named (so a test of one replays its case as it was found, with the others as they were
+// then).
 std::string Session19RulesOffBut(const std::string& keep) {
-  const std::vector<std::pair<std::string, std::string>> rules = {{"--blind-texture-start", " --blind-texture-start 0"},
+  const std::vector<std::pair<std::string, std::string>> rules = {{"--blind-texture-keep-ref", " --no-blind-texture-keep-ref"},
+                                                                  {"--blind-texture-start", " --blind-texture-start 0"},
                                                                   {"--scan-wall-lines", " --scan-wall-lines 0"},
                                                                   {"--wall-view-hold", " --wall-view-hold 0"},
                                                                   {"--shift-trusts-memory", " --no-shift-trusts-memory"},

@@ -296,8 +296,9 @@ struct ExplorerOptions {
   // is blocked now, and "straight on" there drove the obstacle course's robot into a bin 0.5 m
   // ahead. 1.0 since session 18; 0 turns it off (`squint explore --sonar-end-blocks 0`).
   double sonar_end_blocks_m = 1.0;
-  // Following toward a place the map holds as a dead end (a node whose branch ahead is a wall)
-  // the robot creeps (min_speed_fraction of cruise) from this far (metres of map travel) before
+  // Following toward a place the map holds as a dead end (a node whose branches ahead and to both
+  // sides are walls; not an L corner or a T's bar, where creeping cost corridor-2's seeded starts
+  // coverage 0.80 -> 0.74 in their 3 minutes) the robot creeps (min_speed_fraction of cruise) from this far (metres of map travel) before
   // the node's position to 1 m past it, whatever the glance and the sonar say: a mirror end wall
   // shows the corridor behind and the sonar reads floor running on, and on the second visit the
   // robot met corridor-5's mirror at full speed (start 2 of seed 6). 0 turns it off
@@ -325,8 +326,8 @@ struct ExplorerOptions {
   // blind_texture_ratio x the reference held (within blind_texture_hold_s): a door of plain paint
   // filling the view up close, no floor below it, became its own "floor" and nothing in it read
   // smooth, so the blind view let the robot on into the door (corridor-6, start 4 of seed 12).
-  // Off: `squint explore --no-blind-texture-keep-ref`.
-  bool blind_texture_keep_ref = false;
+  // On since session 20; off: `squint explore --no-blind-texture-keep-ref`.
+  bool blind_texture_keep_ref = true;
   bool blind_texture_unknown = false;
   // blind_texture_unknown's rule, applied only until the robot has driven this far (metres of
   // wheel travel) since its start: a robot started close to a wall of the floor's grey has no
