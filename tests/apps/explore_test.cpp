@@ -147,13 +147,28 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
   std::filesystem::remove_all(dir);
 }
 
+// Session 19's five rules and session 20's --blind-texture-keep-ref, each switched off, but for
+// the one named (so a test of one replays its case as it was found, with the others as they were
+// then); LaterRulesOffBut("") switches them all off.
+std::string LaterRulesOffBut(const std::string& keep) {
+  const std::vector<std::pair<std::string, std::string>> rules = {{"--blind-texture-keep-ref", " --no-blind-texture-keep-ref"},
+                                                                  {"--blind-texture-start", " --blind-texture-start 0"},
+                                                                  {"--scan-wall-lines", " --scan-wall-lines 0"},
+                                                                  {"--wall-view-hold", " --wall-view-hold 0"},
+                                                                  {"--shift-trusts-memory", " --no-shift-trusts-memory"},
+                                                                  {"--wall-lines-hold", " --wall-lines-hold 0"}};
+  std::string flags;
+  for (const auto& [name, off] : rules)
+    if (name != keep) flags += off;
+  return flags;
+}
+
 // The explorer as it was before session 17 made the walls' lines and their companions the
 // defaults (and without session 18's, 19's and 20's defaults).
 const std::string kWithoutWallLines =
     " --no-wall-lines --no-end-probe-memory --no-wall-lines-binned --wall-line-free 0 --no-rearm-after-gap --no-mouth-wall-line"
-    " --arrival-min-travel 0 --shift-stall 0 --no-blind-side-lines --blind-texture 0 --no-scan-blind-start --sonar-end-blocks 0"
-    " --blind-texture-start 0 --scan-wall-lines 0 --wall-view-hold 0 --no-shift-trusts-memory --wall-lines-hold 0"
-    " --no-blind-texture-keep-ref";
+    " --arrival-min-travel 0 --shift-stall 0 --no-blind-side-lines --blind-texture 0 --no-scan-blind-start --sonar-end-blocks 0" +
+    LaterRulesOffBut("");
 
 // --own-range-clearing (off by default), with the explorer as it was without the walls' lines
 // (session 14): obstacle-course start 1 of seed 12 sets off beside the
@@ -282,22 +297,6 @@ TEST(ExploreCli, BlindTextureKeepsAWallOfTheFloorsGreyBlocked) {
   std::filesystem::remove_all(dir);
 }
 
-// Session 19's five rules (and session 20's --blind-texture-keep-ref), each switched off, but for
-// the one named (so a test of one replays its case as it was found, with the others as they were
-// then).
-std::string Session19RulesOffBut(const std::string& keep) {
-  const std::vector<std::pair<std::string, std::string>> rules = {{"--blind-texture-keep-ref", " --no-blind-texture-keep-ref"},
-                                                                  {"--blind-texture-start", " --blind-texture-start 0"},
-                                                                  {"--scan-wall-lines", " --scan-wall-lines 0"},
-                                                                  {"--wall-view-hold", " --wall-view-hold 0"},
-                                                                  {"--shift-trusts-memory", " --no-shift-trusts-memory"},
-                                                                  {"--wall-lines-hold", " --wall-lines-hold 0"}};
-  std::string flags;
-  for (const auto& [name, off] : rules)
-    if (name != keep) flags += off;
-  return flags;
-}
-
 // corridor-2, seeded start 2 ("close to a wall") of seed 6: 0.3 m from the turn corridor's east
 // wall, heading 10° into it. The wall's panels have the carpet's grey, so the sonar reads its
 // columns unknown without a blind view (the far wall and the floor are read), and the robot meets
@@ -306,7 +305,7 @@ std::string Session19RulesOffBut(const std::string& keep) {
 TEST(ExploreCli, BlindTextureStartKeepsACloseStartOffAWallOfTheFloorsGrey) {
   const auto dir = TempDir("blind-texture-start");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world corridor-2 --seed 6 --eval-start 2 --minutes 0.3" + Session19RulesOffBut("--blind-texture-start") + flag);
+    return ExploreSummary(dir / name, "--world corridor-2 --seed 6 --eval-start 2 --minutes 0.3" + LaterRulesOffBut("--blind-texture-start") + flag);
   };
   const nlohmann::json off = summary("off", " --blind-texture-start 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -324,7 +323,7 @@ TEST(ExploreCli, BlindTextureStartKeepsACloseStartOffAWallOfTheFloorsGrey) {
 TEST(ExploreCli, AScanDoesNotSetOffIntoABrickWallUpClose) {
   const auto dir = TempDir("scan-wall-lines");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world corridor-9 --seed 14 --eval-start 7 --minutes 0.3" + Session19RulesOffBut("--scan-wall-lines") + flag);
+    return ExploreSummary(dir / name, "--world corridor-9 --seed 14 --eval-start 7 --minutes 0.3" + LaterRulesOffBut("--scan-wall-lines") + flag);
   };
   const nlohmann::json off = summary("off", " --scan-wall-lines 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -342,7 +341,7 @@ TEST(ExploreCli, AScanDoesNotSetOffIntoABrickWallUpClose) {
 TEST(ExploreCli, AWallViewHeldKeepsTheRobotOffABoxUpClose) {
   const auto dir = TempDir("wall-view-hold");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world obstacle-course --seed 5 --eval-start 3 --minutes 2.9" + Session19RulesOffBut("--wall-view-hold") + flag);
+    return ExploreSummary(dir / name, "--world obstacle-course --seed 5 --eval-start 3 --minutes 2.9" + LaterRulesOffBut("--wall-view-hold") + flag);
   };
   const nlohmann::json off = summary("off", " --wall-view-hold 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -359,7 +358,7 @@ TEST(ExploreCli, AWallViewHeldKeepsTheRobotOffABoxUpClose) {
 TEST(ExploreCli, TheDriveToAMouthsCentreTrustsTheFloorSeenOnTheWayIn) {
   const auto dir = TempDir("shift-trusts-memory");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world corridor-8 --seed 5 --eval-start 4 --minutes 0.9" + Session19RulesOffBut("--shift-trusts-memory") + flag);
+    return ExploreSummary(dir / name, "--world corridor-8 --seed 5 --eval-start 4 --minutes 0.9" + LaterRulesOffBut("--shift-trusts-memory") + flag);
   };
   const nlohmann::json off = summary("off", " --no-shift-trusts-memory");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -377,7 +376,7 @@ TEST(ExploreCli, TheDriveToAMouthsCentreTrustsTheFloorSeenOnTheWayIn) {
 TEST(ExploreCli, BrickLinesHeldOverASecondKeepTheRobotOffABrickCorner) {
   const auto dir = TempDir("wall-lines-hold");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world corridor-9 --seed 14 --eval-start 9 --minutes 1.7" + Session19RulesOffBut("--wall-lines-hold") + flag);
+    return ExploreSummary(dir / name, "--world corridor-9 --seed 14 --eval-start 9 --minutes 1.7" + LaterRulesOffBut("--wall-lines-hold") + flag);
   };
   const nlohmann::json off = summary("off", " --wall-lines-hold 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);

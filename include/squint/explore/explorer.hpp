@@ -273,9 +273,9 @@ struct ExplorerOptions {
   double blind_view_fraction = 0.75;
   double blind_view_entropy_ratio = 0.85;
   // A blind view taken within wall_view_hold_m of wheel travel, wall_view_hold_deg of yaw and
-  // wall_view_hold_s of time of the last view judged a wall by its entropy is a wall too: the glance's entropy facing a box up close hovers at
-  // the threshold, and one frame above it made the box's columns unknown and let the robot drive
-  // on into it (the obstacle course, start 3 of seed 5). Only views judged walls by their entropy
+  // wall_view_hold_s of time of the last view judged a wall by its entropy is a wall too: the
+  // glance's entropy facing a box up close hovers at the threshold, and one frame above it made
+  // the box's columns unknown and let the robot drive on into it (the obstacle course, start 3 of seed 5). Only views judged walls by their entropy
   // are held from, so a robot standing still re-judges after wall_view_hold_s. Off by default
   // (`squint explore --wall-view-hold 0.1`): in `default`'s carpeted middle corridor the same
   // hovering entropy turns blind views into walls, and the 45-minute runs missed that corridor on
@@ -298,8 +298,8 @@ struct ExplorerOptions {
   double sonar_end_blocks_m = 1.0;
   // Following toward a place the map holds as a dead end (a node whose branches ahead and to both
   // sides are walls; not an L corner or a T's bar, where creeping cost corridor-2's seeded starts
-  // coverage 0.80 -> 0.74 in their 3 minutes) the robot creeps (min_speed_fraction of cruise) from this far (metres of map travel) before
-  // the node's position to 1 m past it, whatever the glance and the sonar say: a mirror end wall
+  // coverage 0.80 -> 0.74 in their 3 minutes) the robot creeps (min_speed_fraction of cruise)
+  // from this far (metres of map travel) before the node's position to 1 m past it, whatever the glance and the sonar say: a mirror end wall
   // shows the corridor behind and the sonar reads floor running on, and on the second visit the
   // robot met corridor-5's mirror at full speed (start 2 of seed 6). 0 turns it off
   // (`squint explore --known-end-slow M`).
