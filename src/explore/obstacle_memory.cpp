@@ -25,6 +25,9 @@ std::string ObstacleMemoryOptions::Validate() const {
   if (!(confirm_baseline_m >= 0.0) || !std::isfinite(confirm_baseline_m)) return "confirm_baseline_m must be >= 0";
   if (!(blocked_view_fraction >= 0.0 && blocked_view_fraction <= 1.0)) return "blocked_view_fraction must be in [0, 1]";
   if (blocked_view_scans < 1 || blocked_view_scans > 100) return "blocked_view_scans must be in [1, 100]";
+  if (!(blocked_hold_s >= 0.0 && blocked_hold_s <= 60.0)) return "blocked_hold_s must be in [0, 60]";
+  if (blocked_hold_min_columns < 1 || blocked_hold_min_columns > 1000) return "blocked_hold_min_columns must be in [1, 1000]";
+  if (blocked_hold_scans < 1 || blocked_hold_scans > 100) return "blocked_hold_scans must be in [1, 100]";
   return {};
 }
 
@@ -44,6 +47,7 @@ void ObstacleMemory::Clear() {
   n_blocked_ = 0;
   n_columns_ = 0;
   blocked_view_run_ = 0;
+  held_.clear();
   gathered_.clear();
 }
 
@@ -162,6 +166,13 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
                             double near_blind_m) {
   const Eigen::Vector2d o = odom_T_robot.Translation();
   const double clear_margin = 1.5 * options_.cell_m;
+  if (options_.blocked_hold_s > 0.0) {
+    // The scan before this one joins the held ones; those older than the hold go.
+    if (n_blocked_ >= options_.blocked_hold_min_columns)
+      held_.push_back({std::vector<double>(blocked_yaws_.begin(), blocked_yaws_.begin() + n_blocked_), blocked_from_,
+                       blocked_range_m_, blocked_stamp_s_});
+    while (!held_.empty() && stamp_s - held_.front().stamp_s > options_.blocked_hold_s) held_.pop_front();
+  }
   if (blocked_yaws_.size() < scan.size()) blocked_yaws_.resize(scan.size());
   n_blocked_ = 0;
   n_columns_ = static_cast<int>(scan.size());
@@ -227,7 +238,6 @@ void ObstacleMemory::Gather(const Pose2& odom_T_robot, double stamp_s) {
 double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m,
                                   bool use_blocked, bool seen_free_exempts) const {
   const Eigen::Vector2d o = odom_T_robot.Translation();
-  const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
   double free = max_m;
   // The latest scan's columns blocked nearer than the blind range: a direction whose swept band
   // meets one of them at the blind range has no free travel (from where that scan was taken).
@@ -235,22 +245,43 @@ double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double 
   // just outside the disc to the blind range, so the sector is the one a point at
   // options_.blocked_min_range_m would need; otherwise (the floor was mostly seen) the sector
   // at the blind range.
-  const double half = use_blocked ? std::asin(std::min(1.0, radius_m / std::max(options_.blocked_min_range_m, radius_m)))
-                                  : std::atan2(radius_m, std::max(blocked_range_m_, radius_m));
   // A wall filling the view: its blockage counts whatever the floor seen from farther back said.
   const bool view_blocked = options_.blocked_view_fraction > 0.0 && blocked_view_run_ >= options_.blocked_view_scans;
-  for (int i = 0; i < n_blocked_; ++i) {
-    const double byaw = blocked_yaws_[static_cast<std::size_t>(i)];
+  const double latest = BlockedFree(blocked_yaws_.data(), n_blocked_, blocked_from_, blocked_range_m_,
+                                    blocked_stamp_s_, o, yaw, radius_m, use_blocked, seen_free_exempts, view_blocked, free);
+  // The held scans count where at least blocked_hold_scans scans (held ones and the latest) block
+  // this direction: a blockage seen once is a flicker of the floor's texture.
+  int blocking = latest < free ? 1 : 0;
+  double held = free;
+  if (use_blocked)
+    for (const HeldBlockage& h : held_) {
+      const double f = BlockedFree(h.yaws.data(), static_cast<int>(h.yaws.size()), h.from, h.range_m, h.stamp_s, o, yaw,
+                                   radius_m, use_blocked, seen_free_exempts, view_blocked, free);
+      if (f < free) {
+        ++blocking;
+        held = std::min(held, f);
+      }
+    }
+  free = blocking >= options_.blocked_hold_scans ? std::min(latest, held) : latest;
+  return std::min(free, PointsFreeTravel(odom_T_robot, yaw, radius_m, max_m));
+}
+
+double ObstacleMemory::BlockedFree(const double* yaws, int n, const Eigen::Vector2d& from, double range_m,
+                                   double stamp_s, const Eigen::Vector2d& o, double yaw, double radius_m,
+                                   bool use_blocked, bool seen_free_exempts, bool view_blocked, double free) const {
+  const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
+  const double half = use_blocked ? std::asin(std::min(1.0, radius_m / std::max(options_.blocked_min_range_m, radius_m)))
+                                  : std::atan2(radius_m, std::max(range_m, radius_m));
+  for (int i = 0; i < n; ++i) {
+    const double byaw = yaws[i];
     const double dy = std::remainder(byaw - yaw, 2.0 * M_PI);
     if (std::abs(dy) < half) {
-      if (!use_blocked && seen_free_exempts && !view_blocked &&
-          SeenFree(blocked_from_, byaw, radius_m, blocked_range_m_, blocked_stamp_s_))
+      if (!use_blocked && seen_free_exempts && !view_blocked && SeenFree(from, byaw, radius_m, range_m, stamp_s))
         continue;
-      free = std::min(free, std::max(0.0, (blocked_from_ - o).dot(d)));
-      break;
+      return std::min(free, std::max(0.0, (from - o).dot(d)));
     }
   }
-  return std::min(free, PointsFreeTravel(odom_T_robot, yaw, radius_m, max_m));
+  return free;
 }
 
 double ObstacleMemory::PointsFreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m,

@@ -593,6 +593,88 @@ TEST(ObstacleMemory, BlockedNearStopsForwardTravelUnlessTheFloorThereWasSeen) {
   EXPECT_EQ(seen.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, false, /*seen_free_exempts=*/false), 0.0);
 }
 
+// A chair leg flickers: blocked near in one scan (columns a few degrees right of the heading), the
+// next scan reads floor beyond it in every column. With blocked_hold_s the first scan's blockage
+// still stops travel along those columns (from where it was taken) until the hold has passed; a
+// direction clear of its columns is free; without the hold the latest scan alone decides. Then
+// the hold's conditions: enough columns, enough scans, and use_blocked.
+TEST(ObstacleMemory, HeldBlockageOutlivesTheNextScanUntilTheHoldPasses) {
+  const CameraModel cam = SonarCamera();
+  std::vector<SonarColumn> leg = WallScan(cam, 2.0);
+  for (SonarColumn& c : leg) {
+    const double deg = c.bearing_rad * 180.0 / kPi;
+    if (deg > -8.0 && deg < -4.0) {
+      c.kind = SonarReturn::kBlockedNear;
+      c.range_m = 0.0;
+    }
+  }
+  auto run = [&](double hold_s, const Pose2& at, double query_s, double yaw) {
+    ObstacleMemoryOptions opt;
+    opt.blocked_hold_s = hold_s;
+    ObstacleMemory mem(opt);
+    mem.Update(leg, Pose2{}, 0.0, 0.6);
+    mem.Update(WallScan(cam, 2.0), at, query_s, 0.6);  // floor to the wall in every column
+    mem.Gather(at, query_s);
+    return mem.FreeTravel(at, yaw, 0.3, 5.0);
+  };
+  const Pose2 ahead{0.1, 0.0, 0.0};
+  EXPECT_NEAR(run(0.0, ahead, 0.1, 0.0), 1.9 - 0.3, 0.02);  // latest scan only: free to the wall
+  EXPECT_EQ(run(0.5, ahead, 0.1, 0.0), 0.0);                // held: no travel past where it was seen
+  EXPECT_EQ(run(0.5, Pose2{}, 0.1, 0.0), 0.0);
+  EXPECT_NEAR(run(0.5, ahead, 0.6, 0.0), 1.9 - 0.3, 0.02);  // the hold has passed
+  // 60 degrees left of the leg's columns: outside their sector (asin(0.3 / 0.6) = 30 degrees).
+  EXPECT_NEAR(run(0.5, ahead, 0.1, 55.0 * kPi / 180.0), run(0.0, ahead, 0.1, 55.0 * kPi / 180.0), 1e-12);
+  // A blockage narrower than blocked_hold_min_columns is not held (a carpet's single columns).
+  std::vector<SonarColumn> narrow = WallScan(cam, 2.0);
+  int n_narrow = 0;
+  for (SonarColumn& c : narrow) {
+    const double deg = c.bearing_rad * 180.0 / kPi;
+    if (deg > -6.0 && deg < -4.0) {
+      c.kind = SonarReturn::kBlockedNear;
+      c.range_m = 0.0;
+      ++n_narrow;
+    }
+  }
+  ASSERT_GT(n_narrow, 0);
+  ASSERT_LT(n_narrow, ObstacleMemoryOptions{}.blocked_hold_min_columns);
+  {
+    ObstacleMemory mem;  // the defaults: held for 0.5 s
+    mem.Update(narrow, Pose2{}, 0.0, 0.6);
+    mem.Update(WallScan(cam, 2.0), ahead, 0.1, 0.6);
+    mem.Gather(ahead, 0.1);
+    EXPECT_NEAR(mem.FreeTravel(ahead, 0.0, 0.3, 5.0), 1.9 - 0.3, 0.02);
+  }
+  // blocked_hold_scans 2: one held scan alone does not count; two within the hold do.
+  auto scans = [&](int blocked_scans) {
+    ObstacleMemoryOptions opt;
+    opt.blocked_hold_scans = 2;
+    ObstacleMemory mem(opt);
+    for (int i = 0; i < blocked_scans; ++i) mem.Update(leg, Pose2{}, 0.1 * i, 0.6);
+    mem.Update(WallScan(cam, 2.0), ahead, 0.1 * blocked_scans, 0.6);
+    mem.Gather(ahead, 0.1 * blocked_scans);
+    return mem.FreeTravel(ahead, 0.0, 0.3, 5.0);
+  };
+  EXPECT_NEAR(scans(1), 1.9 - 0.3, 0.02);
+  EXPECT_EQ(scans(2), 0.0);
+  // Held blockages count only where the blocked columns count in full (use_blocked).
+  {
+    ObstacleMemory mem;
+    mem.Update(leg, Pose2{}, 0.0, 0.6);
+    mem.Update(WallScan(cam, 2.0), ahead, 0.1, 0.6);
+    mem.Gather(ahead, 0.1);
+    EXPECT_NEAR(mem.FreeTravel(ahead, 0.0, 0.3, 5.0, /*use_blocked=*/false), 1.9 - 0.3, 0.02);
+  }
+  ObstacleMemoryOptions bad;
+  bad.blocked_hold_s = -0.1;
+  EXPECT_NE(bad.Validate(), "");
+  bad = ObstacleMemoryOptions{};
+  bad.blocked_hold_min_columns = 0;
+  EXPECT_NE(bad.Validate(), "");
+  bad = ObstacleMemoryOptions{};
+  bad.blocked_hold_scans = 0;
+  EXPECT_NE(bad.Validate(), "");
+}
+
 // A wall filling the view on blocked_view_scans consecutive scans stops forward travel even where
 // the floor in the blind zone was seen from farther back (a wall with the floor's grey lets the
 // sonar "see" floor through it); a single such scan does not (a view without floor contrast).
@@ -731,10 +813,13 @@ TEST(ObstacleMemory, BlindZoneCornerStaysKnownAfterTurningAway) {
   ASSERT_GT(n_blocked, 10);
   const Pose2 turned{0.0, 0.0, 0.9};  // 52 degrees left: the blocked rays are out of view
   const double right = -0.3;          // a heading into the blocked sector
-  ObstacleMemoryOptions off;
+  // The soft points alone: the blocked-near columns held over the next scan (blocked_hold_s) off.
+  ObstacleMemoryOptions on;
+  on.blocked_hold_s = 0.0;
+  ObstacleMemoryOptions off = on;
   off.blind_points_from_m = 0.0;
   for (const bool soft : {true, false}) {
-    ObstacleMemory mem(soft ? ObstacleMemoryOptions{} : off);
+    ObstacleMemory mem(soft ? on : off);
     mem.Update(first, Pose2{}, 0.0, 1.2);
     mem.Update(WallScan(cam, 2.5), turned, 0.5, 1.2);
     mem.Gather(turned, 0.5);
@@ -762,14 +847,16 @@ TEST(ObstacleMemory, SoftPointsYieldToFloorSeen) {
     c.kind = SonarReturn::kBlockedNear;
     c.range_m = 0.0;
   }
-  ObstacleMemory mem;
+  ObstacleMemoryOptions opt;
+  opt.blocked_hold_s = 0.0;  // the soft points alone, not the blocked-near columns held over the next scan
+  ObstacleMemory mem(opt);
   mem.Update(blocked, Pose2{}, 0.0, 1.2);
   mem.Gather(Pose2{}, 0.0);
   EXPECT_EQ(mem.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, /*use_blocked=*/false), 0.0);  // soft points from 0.6 m
   // The same view a moment later shows floor from the bottom row up to a boundary at 1.4 m (short
   // of the 1.6 m that clears the blind zone of boundaries): the column is not blocked near, the
   // soft points along it go.
-  ObstacleMemory again;
+  ObstacleMemory again(opt);
   again.Update(blocked, Pose2{}, 0.0, 1.2);
   again.Update(WallScan(cam, 1.4), Pose2{}, 0.1, 1.2);
   again.Gather(Pose2{}, 0.1);
