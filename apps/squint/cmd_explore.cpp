@@ -115,9 +115,15 @@ struct ExplorerVariants {
   // A view smooth all over does not become the floor's texture reference (ExplorerOptions::blind_texture_keep_ref;
   // on since session 20).
   bool blind_texture_keep_ref = true;
+  // ...judged against the largest reference of the hold (ExplorerOptions::blind_texture_keep_peak;
+  // on since session 22).
+  bool blind_texture_keep_peak = true;
   // The blocked-near sonar columns of the last S seconds limit the free travel, not the latest
   // scan's alone (ObstacleMemoryOptions::blocked_hold_s; 0: off; 0.5 since session 21).
   double blocked_hold_s = 0.5;
+  // ...their columns only while the latest scan still looks along them
+  // (ObstacleMemoryOptions::blocked_hold_in_view; on since session 22).
+  bool blocked_hold_in_view = true;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -152,7 +158,9 @@ struct ExplorerVariants {
     ro.explorer.sonar_end_blocks_m = sonar_end_blocks_m;
     ro.explorer.known_end_slow_m = known_end_slow_m;
     ro.explorer.blind_texture_keep_ref = blind_texture_keep_ref;
+    ro.explorer.blind_texture_keep_peak = blind_texture_keep_peak;
     ro.explorer.memory.blocked_hold_s = blocked_hold_s;
+    ro.explorer.memory.blocked_hold_in_view = blocked_hold_in_view;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -241,10 +249,14 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 20.0));
     cmd->add_flag("--blind-texture-keep-ref,!--no-blind-texture-keep-ref", blind_texture_keep_ref,
                   text("With --blind-texture: a view whose bottom is smooth all over by the floor's recent texture (a plain door or wall filling the view up close, no floor below it) does not become the floor's texture reference, so its columns stay blocked near (on by default since session 20; docs/explore.md, session 20)"));
+    cmd->add_flag("--blind-texture-keep-peak,!--no-blind-texture-keep-peak", blind_texture_keep_peak,
+                  text("With --blind-texture-keep-ref: a view is smooth all over by the largest floor texture reference of the last 10 s, not the latest: turning toward a door up close walked the reference down to the door's own paint, one slightly smoother frame at a time (on by default since session 22; docs/explore.md, session 22)"));
     cmd->add_option("--blocked-hold", blocked_hold_s,
                     text("The visual sonar's blocked-near columns of the last S seconds (frames with at least 3 of them) limit the free travel where blocked columns count in full (the first 1.6 m of a corridor, off its axis, turning), each from where its frame was taken, not the latest frame's alone: a chair's thin legs flicker between blocked near and a boundary beyond the seat's shadow (0: off; 0.5 by default since session 21; docs/explore.md, session 21)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 10.0));
+    cmd->add_flag("--blocked-hold-in-view,!--no-blocked-hold-in-view", blocked_hold_in_view,
+                  text("With --blocked-hold: a held blocked-near column counts only while the latest frame still looks along it: a robot turning away from a wall it started close to was held by the wall's columns after they had left the view (on by default since session 22; docs/explore.md, session 22)"));
     cmd->add_flag("--scan-blind-start,!--no-scan-blind-start", scan_blind_start,
                   text("At the start, a view blind to the visual sonar (nearly all columns blocked near) is not taken for a corridor whatever the glance says: the robot looks all around first (on by default since session 18; docs/explore.md, session 18)"));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,

@@ -362,11 +362,17 @@ const std::vector<float>* Explorer::BlindTexture(const Percept& p) {
   // blind_texture_keep_ref: a frame smooth all over by the floor's recent reference (a wall of
   // plain paint filling the view, no floor below it) does not become the reference itself.
   const bool held = p.stamp_s - floor_texture_ref_s_ <= opt_.blind_texture_hold_s;
-  const bool smooth_all_over = opt_.blind_texture_keep_ref && held && floor_texture_ref_ > 0.0 &&
-                               v[k] < opt_.blind_texture_ratio * floor_texture_ref_;
+  // blind_texture_keep_peak: judged against the largest reference of the hold, not the latest.
+  std::deque<std::pair<double, double>>& peaks = floor_texture_peaks_;
+  while (!peaks.empty() && p.stamp_s - peaks.front().first > opt_.blind_texture_hold_s) peaks.pop_front();
+  const double against = opt_.blind_texture_keep_peak && !peaks.empty() ? peaks.front().second : floor_texture_ref_;
+  const bool smooth_all_over = opt_.blind_texture_keep_ref && held && against > 0.0 &&
+                               v[k] < opt_.blind_texture_ratio * against;
   if (v[k] >= opt_.blind_texture_min_floor && !smooth_all_over) {
     floor_texture_ref_ = v[k];
     floor_texture_ref_s_ = p.stamp_s;
+    while (!peaks.empty() && peaks.back().second <= v[k]) peaks.pop_back();
+    peaks.emplace_back(p.stamp_s, v[k]);
   }
   if (p.stamp_s - floor_texture_ref_s_ > opt_.blind_texture_hold_s) return nullptr;
   return p.wall_bottom_texture;

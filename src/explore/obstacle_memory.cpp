@@ -48,6 +48,7 @@ void ObstacleMemory::Clear() {
   n_columns_ = 0;
   blocked_view_run_ = 0;
   held_.clear();
+  view_half_rad_ = -1.0;
   gathered_.clear();
 }
 
@@ -179,6 +180,18 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
   blocked_from_ = o;
   blocked_range_m_ = near_blind_m;
   blocked_stamp_s_ = stamp_s;
+  view_half_rad_ = -1.0;
+  if (!scan.empty()) {
+    double lo = scan.front().bearing_rad, hi = lo;
+    for (const SonarColumn& c : scan) {
+      lo = std::min(lo, c.bearing_rad);
+      hi = std::max(hi, c.bearing_rad);
+    }
+    // Half a column's width beyond the outermost columns' bearings.
+    const double pad = scan.size() > 1 ? 0.5 * (hi - lo) / static_cast<double>(scan.size() - 1) : 0.0;
+    view_centre_yaw_ = odom_T_robot.yaw + 0.5 * (lo + hi);
+    view_half_rad_ = 0.5 * (hi - lo) + pad;
+  }
   for (const SonarColumn& c : scan) {
     const double yaw = odom_T_robot.yaw + c.bearing_rad;
     // How far this column's own reading proves the floor (clear_own_within_m): up to its own
@@ -256,7 +269,8 @@ double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double 
   if (use_blocked)
     for (const HeldBlockage& h : held_) {
       const double f = BlockedFree(h.yaws.data(), static_cast<int>(h.yaws.size()), h.from, h.range_m, h.stamp_s, o, yaw,
-                                   radius_m, use_blocked, seen_free_exempts, view_blocked, free);
+                                   radius_m, use_blocked, seen_free_exempts, view_blocked, free,
+                                   options_.blocked_hold_in_view);
       if (f < free) {
         ++blocking;
         held = std::min(held, f);
@@ -268,12 +282,15 @@ double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double 
 
 double ObstacleMemory::BlockedFree(const double* yaws, int n, const Eigen::Vector2d& from, double range_m,
                                    double stamp_s, const Eigen::Vector2d& o, double yaw, double radius_m,
-                                   bool use_blocked, bool seen_free_exempts, bool view_blocked, double free) const {
+                                   bool use_blocked, bool seen_free_exempts, bool view_blocked, double free,
+                                   bool in_view_only) const {
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
   const double half = use_blocked ? std::asin(std::min(1.0, radius_m / std::max(options_.blocked_min_range_m, radius_m)))
                                   : std::atan2(radius_m, std::max(range_m, radius_m));
   for (int i = 0; i < n; ++i) {
     const double byaw = yaws[i];
+    if (in_view_only && view_half_rad_ >= 0.0 && std::abs(std::remainder(byaw - view_centre_yaw_, 2.0 * M_PI)) > view_half_rad_)
+      continue;  // out of the latest scan's view
     const double dy = std::remainder(byaw - yaw, 2.0 * M_PI);
     if (std::abs(dy) < half) {
       if (!use_blocked && seen_free_exempts && !view_blocked && SeenFree(from, byaw, radius_m, range_m, stamp_s))

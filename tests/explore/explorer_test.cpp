@@ -346,6 +346,7 @@ struct ToyPlan {
   bool bottom_texture = false;
   bool smooth_tiles = false;  // ...and two columns in 16 smooth wherever they look (a tile's interior)
   float wall_texture = 0.5f;  // a wall's bottom texture (a rendered paint's noise: 2.5-3 grey levels)
+  float floor_texture = 8.0f;
   // Every this-many-th sonar frame (counting from the second) the glance reads a corridor's
   // entropy whatever it faces (a box up close whose entropy hovers at the threshold); 0: never.
   int open_entropy_every = 0;
@@ -419,7 +420,7 @@ struct ToyPlan {
         for (int u = 0; u < 128; ++u) {
           const double bearing = DegToRad(30.0 - 60.0 * (u + 0.5) / 128.0);
           texture[static_cast<std::size_t>(u)] =
-              Ray(pose.x, pose.y, pose.yaw + bearing) < kBlind || (smooth_tiles && u % 16 >= 8 && u % 16 < 10) ? wall_texture : 8.0f;
+              Ray(pose.x, pose.y, pose.yaw + bearing) < kBlind || (smooth_tiles && u % 16 >= 8 && u % 16 < 10) ? wall_texture : floor_texture;
         }
         p.wall_bottom_texture = &texture;
       }
@@ -899,6 +900,54 @@ TEST(Explorer, AWallFillingTheViewDoesNotBecomeTheFloorsTexture) {
     }
     EXPECT_GE(explorer.BlindViews(), 15);
     EXPECT_EQ(explorer.BlindTextureColumns(), keep ? 64 * explorer.BlindViews() : 0);
+  }
+}
+
+// As above, but the view smooths in three steps (turning toward a door: 8, 3.5, then the door's
+// own 2.5 grey levels against the floor's 20), every frame a blind view. Each step is within
+// blind_texture_ratio (0.35) of the one before (8 >= 7, 3.5 >= 2.8, 2.5 >= 1.2), so
+// blind_texture_keep_ref alone lets the reference walk down to 2.5 and no column of the door
+// reads smooth. With blind_texture_keep_peak a view is judged against the largest reference of the
+// last 10 s (20): 3.5 and 2.5 do not become the reference, 8 stays, and every column of the door's
+// blind views is kept blocked near (2.5 < 0.35 x 8; the 3.5-level views' are not).
+TEST(Explorer, SmootherAndSmootherViewsDoNotWalkTheFloorsTextureDown) {
+  for (const bool peak : {false, true}) {
+    SCOPED_TRACE(peak);
+    ToyPlan world;
+    world.walls = {{-1, 1, 6, 1}, {-1, -1, 6, -1}, {-1, -1, -1, 1}, {6, -1, 6, 1}};
+    world.pose = {1.0, 0.0, 0.0};
+    world.bottom_texture = true;
+    world.floor_texture = 20.0f;
+    world.open_entropy_every = 2;
+    ExplorerOptions o;
+    o.blind_texture_ratio = 0.35;
+    o.blind_texture_keep_ref = true;
+    o.blind_texture_keep_peak = peak;
+    Explorer explorer(o);
+    for (int i = 0; i < 6; ++i) {
+      explorer.Step(world.Perceive());
+      ++world.frame;  // the robot looks down the corridor: the floor's texture
+    }
+    ASSERT_EQ(explorer.BlindViews(), 0);
+    world.pose.x = 5.4;
+    for (const float step : {8.0f, 3.5f}) {
+      world.wall_texture = step;
+      for (int i = 0; i < 30; ++i) {
+        explorer.Step(world.Perceive());
+        ++world.frame;
+      }
+    }
+    ASSERT_GE(explorer.BlindViews(), 6);
+    EXPECT_EQ(explorer.BlindTextureColumns(), 0);  // neither step is smooth against the one before
+    const long views_before = explorer.BlindViews();
+    world.wall_texture = 2.5f;
+    for (int i = 0; i < 60; ++i) {
+      explorer.Step(world.Perceive());
+      ++world.frame;
+    }
+    const long door_views = explorer.BlindViews() - views_before;
+    EXPECT_GE(door_views, 6);
+    EXPECT_EQ(explorer.BlindTextureColumns(), peak ? 64 * door_views : 0);
   }
 }
 

@@ -328,6 +328,12 @@ struct ExplorerOptions {
   // smooth, so the blind view let the robot on into the door (corridor-6, start 4 of seed 12).
   // On since session 20; off: `squint explore --no-blind-texture-keep-ref`.
   bool blind_texture_keep_ref = true;
+  // ...judged against the largest reference taken within blind_texture_hold_s, not the latest:
+  // turning toward a door up close, each frame a little smoother than the one before, walked the
+  // reference down from the tiles' 39 grey levels to the door's own 2.7 within three seconds, one
+  // step inside blind_texture_ratio at a time, and the door's columns read unknown (corridor-0,
+  // start 2 of seed 8). On since session 22; off: `squint explore --no-blind-texture-keep-peak`.
+  bool blind_texture_keep_peak = true;
   bool blind_texture_unknown = false;
   // blind_texture_unknown's rule, applied only until the robot has driven this far (metres of
   // wheel travel) since its start: a robot started close to a wall of the floor's grey has no
@@ -747,6 +753,8 @@ class Explorer {
   bool last_scan_blind_ = false;        // the latest sonar scan was a blind view read as unknown
   double floor_texture_ref_ = 0.0;      // the floor's bottom texture in the walls' lines' frame (blind_texture_ratio)
   double floor_texture_ref_s_ = -1e9;   // when it was last measured
+  // The references taken within blind_texture_hold_s, decreasing (a sliding window's maximum).
+  std::deque<std::pair<double, double>> floor_texture_peaks_;
   long blind_texture_kept_ = 0;         // sonar columns read blocked near from the bottom texture
   std::vector<float> texture_sorted_;   // BlindTexture's work buffer
   double last_wall_m_[2] = {-1.0, -1.0};  // the last abeam wall distance per side in this corridor
