@@ -122,8 +122,8 @@ struct ExplorerVariants {
   // scan's alone (ObstacleMemoryOptions::blocked_hold_s; 0: off; 0.5 since session 21).
   double blocked_hold_s = 0.5;
   // ...their columns only while the latest scan still looks along them
-  // (ObstacleMemoryOptions::blocked_hold_in_view; on since session 22).
-  bool blocked_hold_in_view = true;
+  // (ObstacleMemoryOptions::blocked_hold_in_view; off: it changed the main job's route into a wall).
+  bool blocked_hold_in_view = false;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -256,7 +256,7 @@ struct ExplorerVariants {
         ->capture_default_str()
         ->check(CLI::Range(0.0, 10.0));
     cmd->add_flag("--blocked-hold-in-view,!--no-blocked-hold-in-view", blocked_hold_in_view,
-                  text("With --blocked-hold: a held blocked-near column counts only while the latest frame still looks along it: a robot turning away from a wall it started close to was held by the wall's columns after they had left the view (on by default since session 22; docs/explore.md, session 22)"));
+                  text("With --blocked-hold: a held blocked-near column counts only while the latest frame still looks along it: a robot turning away from a wall it started close to was held by the wall's columns after they had left the view (off by default: with it the main job met a wall; docs/explore.md, session 22)"));
     cmd->add_flag("--scan-blind-start,!--no-scan-blind-start", scan_blind_start,
                   text("At the start, a view blind to the visual sonar (nearly all columns blocked near) is not taken for a corridor whatever the glance says: the robot looks all around first (on by default since session 18; docs/explore.md, session 18)"));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,

@@ -683,7 +683,9 @@ TEST(ObstacleMemory, HeldBlockageOutlivesTheNextScanUntilTheHoldPasses) {
   EXPECT_NEAR(turned(0.5, true), turned(0.0, true), 1e-12);
   // Turned only 10 degrees (the view -20 to 40 degrees): the leg is still in view and held.
   {
-    ObstacleMemory mem;
+    ObstacleMemoryOptions opt;
+    opt.blocked_hold_in_view = true;
+    ObstacleMemory mem(opt);
     const Pose2 left{0.0, 0.0, 10.0 * kPi / 180.0};
     mem.Update(leg, Pose2{}, 0.0, 0.6);
     mem.Update(WallScan(cam, 2.0), left, 0.1, 0.6);

@@ -78,8 +78,12 @@ struct ObstacleMemoryOptions {
   // that has left the view is no flicker to outlast. A robot started 0.35 m from a wall and turning
   // away from it to get clear was held by the wall's columns for half a second after the wall had
   // left the view, the stall guard gave the direction up, and a later scan set it off into the wall
-  // (`default`, start 2 of seed 12). Off: `squint explore --no-blocked-hold-in-view`.
-  bool blocked_hold_in_view = true;
+  // (`default`, start 2 of seed 12). Off by default (`squint explore --blocked-hold-in-view`): on,
+  // it also fixed corridor-2's start 2 of seed 13 and the 45-minute runs' missed middle corridor
+  // (seeds 2 and 9), but the main job's route changed with it and met the inner corner of the
+  // north-east L at 2485.6 s after turning 1.2 m early past a floor edge (seed 1; docs/explore.md,
+  // session 22).
+  bool blocked_hold_in_view = false;
   std::string Validate() const;
 };
 
