@@ -181,7 +181,7 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
   blocked_range_m_ = near_blind_m;
   blocked_stamp_s_ = stamp_s;
   view_half_rad_ = -1.0;
-  if (!scan.empty()) {
+  if (options_.blocked_hold_in_view && !scan.empty()) {
     double lo = scan.front().bearing_rad, hi = lo;
     for (const SonarColumn& c : scan) {
       lo = std::min(lo, c.bearing_rad);

@@ -147,8 +147,8 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
   std::filesystem::remove_all(dir);
 }
 
-// Session 19's five rules, session 20's --blind-texture-keep-ref and session 21's --blocked-hold,
-// each switched off, but for the one named (so a test of one replays its case as it was found,
+// Session 19's five rules, session 20's --blind-texture-keep-ref, session 21's --blocked-hold and
+// session 22's two, each switched off, but for the one named (so a test of one replays its case as it was found,
 // with the others as they were then); LaterRulesOffBut("") switches them all off.
 std::string LaterRulesOffBut(const std::string& keep) {
   const std::vector<std::pair<std::string, std::string>> rules = {{"--blocked-hold-in-view", " --no-blocked-hold-in-view"},

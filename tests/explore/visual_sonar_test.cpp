@@ -667,31 +667,22 @@ TEST(ObstacleMemory, HeldBlockageOutlivesTheNextScanUntilTheHoldPasses) {
   // The robot turned 40 degrees left where it stands: the leg's columns (-8 to -4 degrees) have
   // left the view (10 to 70 degrees). Along 20 degrees, inside their sector, they hold it only
   // with blocked_hold_in_view off; on, the latest scan alone decides.
-  auto turned = [&](double hold_s, bool in_view) {
+  auto turned = [&](double hold_s, bool in_view, double turn_deg, double along_deg) {
     ObstacleMemoryOptions opt;
     opt.blocked_hold_s = hold_s;
     opt.blocked_hold_in_view = in_view;
     ObstacleMemory mem(opt);
-    const Pose2 left{0.0, 0.0, 40.0 * kPi / 180.0};
+    const Pose2 left{0.0, 0.0, turn_deg * kPi / 180.0};
     mem.Update(leg, Pose2{}, 0.0, 0.6);
     mem.Update(WallScan(cam, 2.0), left, 0.1, 0.6);
     mem.Gather(left, 0.1);
-    return mem.FreeTravel(left, 20.0 * kPi / 180.0, 0.3, 5.0);
+    return mem.FreeTravel(left, along_deg * kPi / 180.0, 0.3, 5.0);
   };
-  ASSERT_GT(turned(0.0, true), 0.5);
-  EXPECT_EQ(turned(0.5, false), 0.0);
-  EXPECT_NEAR(turned(0.5, true), turned(0.0, true), 1e-12);
+  ASSERT_GT(turned(0.0, true, 40.0, 20.0), 0.5);
+  EXPECT_EQ(turned(0.5, false, 40.0, 20.0), 0.0);
+  EXPECT_NEAR(turned(0.5, true, 40.0, 20.0), turned(0.0, true, 40.0, 20.0), 1e-12);
   // Turned only 10 degrees (the view -20 to 40 degrees): the leg is still in view and held.
-  {
-    ObstacleMemoryOptions opt;
-    opt.blocked_hold_in_view = true;
-    ObstacleMemory mem(opt);
-    const Pose2 left{0.0, 0.0, 10.0 * kPi / 180.0};
-    mem.Update(leg, Pose2{}, 0.0, 0.6);
-    mem.Update(WallScan(cam, 2.0), left, 0.1, 0.6);
-    mem.Gather(left, 0.1);
-    EXPECT_EQ(mem.FreeTravel(left, 0.0, 0.3, 5.0), 0.0);
-  }
+  EXPECT_EQ(turned(0.5, true, 10.0, 0.0), 0.0);
   ObstacleMemoryOptions bad;
   bad.blocked_hold_s = -0.1;
   EXPECT_NE(bad.Validate(), "");
