@@ -122,8 +122,12 @@ struct ExplorerVariants {
   // scan's alone (ObstacleMemoryOptions::blocked_hold_s; 0: off; 0.5 since session 21).
   double blocked_hold_s = 0.5;
   // ...their columns only while the latest scan still looks along them
-  // (ObstacleMemoryOptions::blocked_hold_in_view; off: it changed the main job's route into a wall).
-  bool blocked_hold_in_view = false;
+  // (ObstacleMemoryOptions::blocked_hold_in_view; on since session 23).
+  bool blocked_hold_in_view = true;
+  // A side wall abeam needs another point within this distance (ExplorerOptions::side_wall_cluster_m; 0: nearest point).
+  double side_wall_cluster_m = 0.15;
+  // The floor-edge band cleared only across the opening's span (ExplorerOptions::floor_edge_band_mouth).
+  bool floor_edge_band_mouth = true;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -161,6 +165,8 @@ struct ExplorerVariants {
     ro.explorer.blind_texture_keep_peak = blind_texture_keep_peak;
     ro.explorer.memory.blocked_hold_s = blocked_hold_s;
     ro.explorer.memory.blocked_hold_in_view = blocked_hold_in_view;
+    ro.explorer.side_wall_cluster_m = side_wall_cluster_m;
+    ro.explorer.floor_edge_band_mouth = floor_edge_band_mouth;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -256,7 +262,13 @@ struct ExplorerVariants {
         ->capture_default_str()
         ->check(CLI::Range(0.0, 10.0));
     cmd->add_flag("--blocked-hold-in-view,!--no-blocked-hold-in-view", blocked_hold_in_view,
-                  text("With --blocked-hold: a held blocked-near column counts only while the latest frame still looks along it: a robot turning away from a wall it started close to was held by the wall's columns after they had left the view (off by default: with it the main job met a wall; docs/explore.md, session 22)"));
+                  text("With --blocked-hold: a held blocked-near column counts only while the latest frame still looks along it: a robot turning away from a wall it started close to was held by the wall's columns after they had left the view (on by default since session 23; off in session 22, when with it the main job met a wall after a false opening that --side-wall-cluster now removes; docs/explore.md, sessions 22 and 23)"));
+    cmd->add_option("--side-wall-cluster", side_wall_cluster_m,
+                    text("A side wall seen abeam (the side branches' wall runs and lines) is the nearest remembered point with another within this many metres of it, not one isolated point: one point 0.25 m inside a wall moved that wall's line inward, and the robot stopped for a false opening 2 m before an L corner and turned there (0: the nearest point; 0.15 by default since session 23; docs/explore.md, session 23)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_flag("--floor-edge-band-mouth,!--no-floor-edge-band-mouth", floor_edge_band_mouth,
+                  text("With --floor-edge-openings: the floor-edge band cleared from the memory when the robot turns into such an opening spans only the opening (from where that side's wall ended, for its width), not the stop's surroundings: stopped short of a T's centre, the band reached back over the corridor's own wall, cleared its end, and the robot met the corner (on by default since session 23; docs/explore.md, session 23)"));
     cmd->add_flag("--scan-blind-start,!--no-scan-blind-start", scan_blind_start,
                   text("At the start, a view blind to the visual sonar (nearly all columns blocked near) is not taken for a corridor whatever the glance says: the robot looks all around first (on by default since session 18; docs/explore.md, session 18)"));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,

@@ -398,7 +398,7 @@ void Explorer::ClearFloorEdgeBand(const Percept& p) {
     floor_edge_band_.reset();
     return;
   }
-  memory_.ClearRect(b.frame, b.s0, b.s1, -b.half_width, b.half_width);
+  memory_.ClearRect(b.frame, b.s0, b.s1, b.l0, b.l1);
   memory_.Gather(p.odom_T_robot, p.stamp_s);
 }
 
@@ -1165,7 +1165,7 @@ bool Explorer::TrackSides(const Percept& p) {
   if (!opt_.detect_branches || !sonar_seen_ || p.sonar == nullptr) return false;
   double wall[2] = {-1.0, -1.0};
   memory_.SideDistances(p.odom_T_robot, axis_yaw_odom_, opt_.side_window_m, opt_.side_wall_max_lateral_m, &wall[0],
-                        &wall[1]);
+                        &wall[1], opt_.side_wall_cluster_m);
   const double t = travel_in_corridor_m_;
   const Eigen::Vector2d o = p.odom_T_robot.Translation();
   const Eigen::Vector2d d(std::cos(axis_yaw_odom_), std::sin(axis_yaw_odom_));
@@ -1246,10 +1246,16 @@ bool Explorer::TrackSides(const Percept& p) {
         // cleared if the robot turns into it.
         auto record = [&](int side, int dir, double line) {
           if (line <= 0.0) return;
+          // Along the axis from the robot: the opening from where this side's wall run ended.
+          double a0 = -(0.5 * width + opt_.side_window_m), a1 = -a0;
+          if (opt_.floor_edge_band_mouth) {
+            a0 = sides_[side].wall_last_m - opt_.side_window_m - t;
+            a1 = a0 + width;
+          }
           floor_edge_candidates_[side] =
               FloorEdgeBand{dir, Pose2{o.x(), o.y(), WrapPi(axis_yaw_odom_ + (side == 0 ? 0.5 : -0.5) * kPi)},
                             line + opt_.branch_line_tolerance_m, line + opt_.branch_line_band_m,
-                            0.5 * width + opt_.side_window_m};
+                            side == 0 ? -a1 : a0, side == 0 ? -a0 : a1};
         };
         record(k, gap_side_dir_, line_at[k]);
         if (crossing) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "squint/core/error.hpp"
 
@@ -338,20 +339,54 @@ double ObstacleMemory::WallAxisMod90(double* strength, int* pairs) const {
 }
 
 void ObstacleMemory::SideDistances(const Pose2& odom_T_robot, double axis_yaw, double along_window_m,
-                                   double max_lateral_m, double* left_m, double* right_m) const {
+                                   double max_lateral_m, double* left_m, double* right_m, double cluster_m) const {
   const Eigen::Vector2d o = odom_T_robot.Translation();
   const Eigen::Vector2d d(std::cos(axis_yaw), std::sin(axis_yaw));
-  double left = std::numeric_limits<double>::infinity(), right = left;
-  for (const Eigen::Vector2d& p : gathered_) {
-    const Eigen::Vector2d q = p - o;
+  if (cluster_m <= 0.0) {
+    double left = std::numeric_limits<double>::infinity(), right = left;
+    for (const Eigen::Vector2d& p : gathered_) {
+      const Eigen::Vector2d q = p - o;
+      const double s = q.dot(d);
+      if (std::abs(s) > along_window_m) continue;
+      const double l = d.x() * q.y() - d.y() * q.x();
+      if (l > 0.0 && l < max_lateral_m) left = std::min(left, l);
+      if (l < 0.0 && -l < max_lateral_m) right = std::min(right, -l);
+    }
+    *left_m = std::isfinite(left) ? left : -1.0;
+    *right_m = std::isfinite(right) ? right : -1.0;
+    return;
+  }
+  // A wall is two points at least: the nearest point with another remembered point within
+  // cluster_m of it (an isolated point is no wall).
+  std::vector<std::pair<double, std::size_t>> side[2];
+  for (std::size_t i = 0; i < gathered_.size(); ++i) {
+    const Eigen::Vector2d q = gathered_[i] - o;
     const double s = q.dot(d);
     if (std::abs(s) > along_window_m) continue;
     const double l = d.x() * q.y() - d.y() * q.x();
-    if (l > 0.0 && l < max_lateral_m) left = std::min(left, l);
-    if (l < 0.0 && -l < max_lateral_m) right = std::min(right, -l);
+    if (l > 0.0 && l < max_lateral_m) side[0].emplace_back(l, i);
+    if (l < 0.0 && -l < max_lateral_m) side[1].emplace_back(-l, i);
   }
-  *left_m = std::isfinite(left) ? left : -1.0;
-  *right_m = std::isfinite(right) ? right : -1.0;
+  double* out[2] = {left_m, right_m};
+  for (int k = 0; k < 2; ++k) {
+    std::vector<std::pair<double, std::size_t>>& v = side[k];
+    std::sort(v.begin(), v.end());
+    *out[k] = -1.0;
+    for (const auto& [l, i] : v) {
+      if (!Isolated(gathered_[i], cluster_m)) {
+        *out[k] = l;
+        break;
+      }
+    }
+  }
+}
+
+bool ObstacleMemory::Isolated(const Eigen::Vector2d& point, double radius_m) const {
+  const double r2 = radius_m * radius_m;
+  int within = 0;  // the point itself counts once
+  for (const Eigen::Vector2d& q : gathered_)
+    if ((q - point).squaredNorm() <= r2 && ++within > 1) return false;
+  return true;
 }
 
 }  // namespace squint::explore

@@ -1265,6 +1265,42 @@ TEST(Explorer, SideWallSeenAbeamClosesAGapTowardIt) {
   }
 }
 
+// A straight corridor with nothing beside it but a post 6 cm square whose face stands 0.23 m inside
+// the right wall (one remembered point, abeam for half a metre of travel). Taken for the right wall (the nearest
+// point abeam), it moved that wall's line inward; the real wall then read beyond the line, no wall,
+// and the robot stopped for an opening that is not there (`default`'s east corridor 2 m before its
+// north-east L, which the robot then turned into early and met its inner corner). With
+// side_wall_cluster_m a wall is two points at least: no stop until the corridor's end.
+TEST(Explorer, OneStrayPointAbeamIsNoWallAndMakesNoOpening) {
+  for (const bool rule : {true, false}) {
+    ToyPlan world;
+    world.walls = {{-1, 1, 25, 1}, {-1, -1, 25, -1}, {-1, -1, -1, 1}, {25, -1, 25, 1}, {12.0, -0.77, 12.06, -0.77}, {12.0, -0.77, 12.0, -0.83}, {12.06, -0.77, 12.06, -0.83}};
+    world.pose = {1.0, 0.0, 0.0};
+    ExplorerOptions o;
+    o.side_wall_cluster_m = rule ? 0.15 : 0.0;
+    Explorer explorer(o);
+    double junction_x = -1.0;
+    bool hit_wall = false;
+    for (int i = 0; i < 30 * 60 && world.pose.x < 20.0 && !hit_wall; ++i) {
+      const std::size_t n_events = explorer.Events().size();
+      world.Apply(explorer.Step(world.Perceive()));
+      for (std::size_t k = n_events; k < explorer.Events().size(); ++k)
+        if (explorer.Events()[k].kind == ExploreEvent::Kind::kJunction && junction_x < 0.0) junction_x = world.pose.x;
+      for (double a = -kPi; a < kPi; a += kPi / 36)
+        if (world.Ray(world.pose.x, world.pose.y, a) < 0.25) hit_wall = true;
+    }
+    EXPECT_FALSE(hit_wall) << rule;
+    if (rule) {
+      EXPECT_GE(world.pose.x, 20.0);  // down the corridor without a stop
+      EXPECT_EQ(explorer.JunctionsDetected(), 0);
+    } else {
+      EXPECT_GE(explorer.JunctionsDetected(), 1);  // a stop beside a plain wall, past the post
+      EXPECT_GT(junction_x, 12.0);
+      EXPECT_LT(junction_x, 16.0);
+    }
+  }
+}
+
 TEST(Explorer, OptionsValidateNamesTheField) {
   {
     ExplorerOptions o;

@@ -700,6 +700,50 @@ TEST(ObstacleMemory, HeldBlockageOutlivesTheNextScanUntilTheHoldPasses) {
 // Two walls 2 m apart along direction theta, seen from between them in one scan (a column per
 // remembered point): the memory's wall axis is theta modulo 90 degrees, strongly; scattered points
 // give no direction.
+// Walls 1.0 m to each side of the axis (a point every 0.05 m along), and one stray point 0.77 m to
+// the right, abeam (0.23 m from the nearest wall point): the nearest point reads it; with a
+// cluster distance of 0.15 m a side's wall is the nearest point with another within that distance
+// of it. A side with one point only has no wall then.
+TEST(ObstacleMemory, SideDistancesWithAClusterSkipAStrayPoint) {
+  auto scan_of = [](const std::vector<Eigen::Vector2d>& pts) {
+    std::vector<SonarColumn> scan;
+    for (const Eigen::Vector2d& q : pts) {
+      SonarColumn c;
+      c.kind = SonarReturn::kBoundary;
+      c.bearing_rad = std::atan2(q.y(), q.x());
+      c.range_m = q.norm();
+      scan.push_back(c);
+    }
+    return scan;
+  };
+  std::vector<Eigen::Vector2d> pts;
+  for (double x = -1.0; x <= 1.0; x += 0.05) {
+    pts.emplace_back(x, 1.0);
+    pts.emplace_back(x, -1.0);
+  }
+  pts.emplace_back(0.1, -0.77);
+  ObstacleMemory mem;
+  mem.Update(scan_of(pts), Pose2{}, 0.0, 1.2);
+  mem.Gather(Pose2{}, 0.1);
+  double left = 0.0, right = 0.0;
+  mem.SideDistances(Pose2{}, 0.0, 0.3, 1.8, &left, &right);
+  EXPECT_NEAR(left, 1.0, 0.06);
+  EXPECT_NEAR(right, 0.77, 0.06);
+  mem.SideDistances(Pose2{}, 0.0, 0.3, 1.8, &left, &right, 0.15);
+  EXPECT_NEAR(left, 1.0, 0.06);
+  EXPECT_NEAR(right, 1.0, 0.06);
+  // One point alone on the right, nothing on the left.
+  ObstacleMemory one;
+  one.Update(scan_of({Eigen::Vector2d(0.0, -0.8)}), Pose2{}, 0.0, 1.2);
+  one.Gather(Pose2{}, 0.1);
+  one.SideDistances(Pose2{}, 0.0, 0.3, 1.8, &left, &right);
+  EXPECT_EQ(left, -1.0);
+  EXPECT_NEAR(right, 0.8, 0.06);
+  one.SideDistances(Pose2{}, 0.0, 0.3, 1.8, &left, &right, 0.15);
+  EXPECT_EQ(left, -1.0);
+  EXPECT_EQ(right, -1.0);  // one point is no wall
+}
+
 TEST(ObstacleMemory, WallAxisIsTheRememberedWallsDirectionModulo90) {
   auto scan_of = [](const std::vector<Eigen::Vector2d>& pts) {
     std::vector<SonarColumn> scan;

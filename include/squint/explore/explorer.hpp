@@ -359,6 +359,12 @@ struct ExplorerOptions {
   bool detect_branches = true;
   double side_window_m = 0.3;
   double side_wall_max_lateral_m = 1.8;
+  // A side's wall abeam is its nearest point with another remembered point within
+  // side_wall_cluster_m of it, not one isolated point: a single point 0.25 m inside the wall of `default`'s east corridor moved
+  // the right wall's line inward, the real wall then read beyond the line, and the robot stopped
+  // for an "opening on the right" 2 m before the north-east L and turned there (session 23). 0:
+  // the nearest point (`squint explore --side-wall-cluster 0`).
+  double side_wall_cluster_m = 0.15;
   double branch_wall_before_m = 0.6;
   double branch_wall_gap_m = 0.3;        // shorter breaks in the wall do not end a wall run...
   // ...unless the break was handled as an opening (a door recess rejected as too narrow, a
@@ -393,6 +399,13 @@ struct ExplorerOptions {
   double branch_line_tolerance_m = 0.12;
   double branch_line_band_m = 0.6;
   int branch_line_samples = 15;
+  // The band cleared is only as long as the opening (from where that side's wall run ended, for
+  // the opening's width), not centred on where the robot stopped: stopped 1 m short of a T's
+  // bar's centre line (corridor-9 start 5 of seed 3), the band reached back over the last 1.8 m
+  // of the corridor's own wall, whose base the sonar read inside it, cleared the wall's end from
+  // the memory, and the robot turned into the branch and met the corner it could no longer see
+  // (session 23). Off: the band spans the stop ± (half the width + side_window_m), as before.
+  bool floor_edge_band_mouth = true;
   // Mouth centring: before turning into a side branch the robot moves along the corridor to the
   // branch's centre line. The branch's two walls are the remembered points from 0.25 m to
   // mouth_band_m beyond the corridor's own wall line on that side (the last abeam wall distance
@@ -729,10 +742,12 @@ class Explorer {
   // The band beyond an opening's wall line (a floor edge seen through it), in the frame of the
   // robot at the stop facing that side (map direction dir): cleared from the memory when the robot
   // turns into it.
+  // s: toward the side, from the stop; l: to the left of that direction (along the corridor's
+  // axis backward for a left side, forward for a right one).
   struct FloorEdgeBand {
     int dir = -1;
     Pose2 frame;
-    double s0 = 0.0, s1 = 0.0, half_width = 0.0;
+    double s0 = 0.0, s1 = 0.0, l0 = 0.0, l1 = 0.0;
   };
   std::optional<FloorEdgeBand> floor_edge_candidates_[2];  // recorded at the stop, per side (left, right)
   std::optional<FloorEdgeBand> floor_edge_band_;  // turned into: cleared on every scan until crossed

@@ -78,12 +78,12 @@ struct ObstacleMemoryOptions {
   // that has left the view is no flicker to outlast. A robot started 0.35 m from a wall and turning
   // away from it to get clear was held by the wall's columns for half a second after the wall had
   // left the view, the stall guard gave the direction up, and a later scan set it off into the wall
-  // (`default`, start 2 of seed 12). Off by default (`squint explore --blocked-hold-in-view`): on,
-  // it also fixed corridor-2's start 2 of seed 13 and the 45-minute runs' missed middle corridor
-  // (seeds 2 and 9), but the main job's route changed with it and met the inner corner of the
-  // north-east L at 2485.6 s after turning 1.2 m early past a floor edge (seed 1; docs/explore.md,
-  // session 22).
-  bool blocked_hold_in_view = false;
+  // (`default`, start 2 of seed 12). It also fixed corridor-2's start 2 of seed 13 and the
+  // 45-minute runs' missed middle corridor (seeds 2 and 9). Off in session 22 (the main job's route
+  // changed with it and met the inner corner of the north-east L after a false opening 2 m early);
+  // on by default since session 23, whose side_wall_cluster_m removed that false opening
+  // (`squint explore --no-blocked-hold-in-view`; docs/explore.md, sessions 22 and 23).
+  bool blocked_hold_in_view = true;
   std::string Validate() const;
 };
 
@@ -117,9 +117,13 @@ class ObstacleMemory {
                           double skip_to_m = 0.0) const;
   // Nearest remembered point abeam on each side, as lateral distances from the robot along the
   // axis `axis_yaw` (odometry frame), among points within ±along_window_m along the axis.
-  // Negative when none.
+  // Negative when none. With cluster_m > 0 a side's distance is that of the nearest point with
+  // another remembered point within cluster_m of it (a wall is two points at least, not one stray
+  // point).
   void SideDistances(const Pose2& odom_T_robot, double axis_yaw, double along_window_m, double max_lateral_m,
-                     double* left_m, double* right_m) const;
+                     double* left_m, double* right_m, double cluster_m = 0.0) const;
+  // True when no other gathered point lies within radius_m of `point` (a gathered point itself).
+  bool Isolated(const Eigen::Vector2d& point, double radius_m) const;
   const std::vector<Eigen::Vector2d>& Gathered() const { return gathered_; }
   // The dominant direction of the gathered points' wall lines modulo 90 degrees (radians in
   // (-pi/4, pi/4], odometry frame), from every pair of gathered points 0.2-0.6 m apart: the mean
