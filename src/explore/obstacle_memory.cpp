@@ -342,22 +342,7 @@ void ObstacleMemory::SideDistances(const Pose2& odom_T_robot, double axis_yaw, d
                                    double max_lateral_m, double* left_m, double* right_m, double cluster_m) const {
   const Eigen::Vector2d o = odom_T_robot.Translation();
   const Eigen::Vector2d d(std::cos(axis_yaw), std::sin(axis_yaw));
-  if (cluster_m <= 0.0) {
-    double left = std::numeric_limits<double>::infinity(), right = left;
-    for (const Eigen::Vector2d& p : gathered_) {
-      const Eigen::Vector2d q = p - o;
-      const double s = q.dot(d);
-      if (std::abs(s) > along_window_m) continue;
-      const double l = d.x() * q.y() - d.y() * q.x();
-      if (l > 0.0 && l < max_lateral_m) left = std::min(left, l);
-      if (l < 0.0 && -l < max_lateral_m) right = std::min(right, -l);
-    }
-    *left_m = std::isfinite(left) ? left : -1.0;
-    *right_m = std::isfinite(right) ? right : -1.0;
-    return;
-  }
-  // A wall is two points at least: the nearest point with another remembered point within
-  // cluster_m of it (an isolated point is no wall).
+  // Each side's points abeam: lateral distance and index, nearest first.
   std::vector<std::pair<double, std::size_t>> side[2];
   for (std::size_t i = 0; i < gathered_.size(); ++i) {
     const Eigen::Vector2d q = gathered_[i] - o;
@@ -373,7 +358,8 @@ void ObstacleMemory::SideDistances(const Pose2& odom_T_robot, double axis_yaw, d
     std::sort(v.begin(), v.end());
     *out[k] = -1.0;
     for (const auto& [l, i] : v) {
-      if (!Isolated(gathered_[i], cluster_m)) {
+      // With cluster_m a wall is two points at least: an isolated point is skipped.
+      if (cluster_m <= 0.0 || !Isolated(gathered_[i], cluster_m)) {
         *out[k] = l;
         break;
       }

@@ -700,22 +700,24 @@ TEST(ObstacleMemory, HeldBlockageOutlivesTheNextScanUntilTheHoldPasses) {
 // Two walls 2 m apart along direction theta, seen from between them in one scan (a column per
 // remembered point): the memory's wall axis is theta modulo 90 degrees, strongly; scattered points
 // give no direction.
+// A scan with one boundary column at each point (robot frame: x ahead, y left).
+std::vector<SonarColumn> ScanOfPoints(const std::vector<Eigen::Vector2d>& pts) {
+  std::vector<SonarColumn> scan;
+  for (const Eigen::Vector2d& q : pts) {
+    SonarColumn c;
+    c.kind = SonarReturn::kBoundary;
+    c.bearing_rad = std::atan2(q.y(), q.x());
+    c.range_m = q.norm();
+    scan.push_back(c);
+  }
+  return scan;
+}
+
 // Walls 1.0 m to each side of the axis (a point every 0.05 m along), and one stray point 0.77 m to
 // the right, abeam (0.23 m from the nearest wall point): the nearest point reads it; with a
 // cluster distance of 0.15 m a side's wall is the nearest point with another within that distance
 // of it. A side with one point only has no wall then.
 TEST(ObstacleMemory, SideDistancesWithAClusterSkipAStrayPoint) {
-  auto scan_of = [](const std::vector<Eigen::Vector2d>& pts) {
-    std::vector<SonarColumn> scan;
-    for (const Eigen::Vector2d& q : pts) {
-      SonarColumn c;
-      c.kind = SonarReturn::kBoundary;
-      c.bearing_rad = std::atan2(q.y(), q.x());
-      c.range_m = q.norm();
-      scan.push_back(c);
-    }
-    return scan;
-  };
   std::vector<Eigen::Vector2d> pts;
   for (double x = -1.0; x <= 1.0; x += 0.05) {
     pts.emplace_back(x, 1.0);
@@ -723,7 +725,7 @@ TEST(ObstacleMemory, SideDistancesWithAClusterSkipAStrayPoint) {
   }
   pts.emplace_back(0.1, -0.77);
   ObstacleMemory mem;
-  mem.Update(scan_of(pts), Pose2{}, 0.0, 1.2);
+  mem.Update(ScanOfPoints(pts), Pose2{}, 0.0, 1.2);
   mem.Gather(Pose2{}, 0.1);
   double left = 0.0, right = 0.0;
   mem.SideDistances(Pose2{}, 0.0, 0.3, 1.8, &left, &right);
@@ -734,7 +736,7 @@ TEST(ObstacleMemory, SideDistancesWithAClusterSkipAStrayPoint) {
   EXPECT_NEAR(right, 1.0, 0.06);
   // One point alone on the right, nothing on the left.
   ObstacleMemory one;
-  one.Update(scan_of({Eigen::Vector2d(0.0, -0.8)}), Pose2{}, 0.0, 1.2);
+  one.Update(ScanOfPoints({Eigen::Vector2d(0.0, -0.8)}), Pose2{}, 0.0, 1.2);
   one.Gather(Pose2{}, 0.1);
   one.SideDistances(Pose2{}, 0.0, 0.3, 1.8, &left, &right);
   EXPECT_EQ(left, -1.0);
@@ -745,17 +747,6 @@ TEST(ObstacleMemory, SideDistancesWithAClusterSkipAStrayPoint) {
 }
 
 TEST(ObstacleMemory, WallAxisIsTheRememberedWallsDirectionModulo90) {
-  auto scan_of = [](const std::vector<Eigen::Vector2d>& pts) {
-    std::vector<SonarColumn> scan;
-    for (const Eigen::Vector2d& q : pts) {
-      SonarColumn c;
-      c.kind = SonarReturn::kBoundary;
-      c.bearing_rad = std::atan2(q.y(), q.x());
-      c.range_m = q.norm();
-      scan.push_back(c);
-    }
-    return scan;
-  };
   for (const double theta_deg : {20.0, 70.0, -30.0}) {
     const double t = DegToRad(theta_deg);
     std::vector<Eigen::Vector2d> pts;
@@ -763,7 +754,7 @@ TEST(ObstacleMemory, WallAxisIsTheRememberedWallsDirectionModulo90) {
       for (const double side : {-1.0, 1.0})
         pts.emplace_back(std::cos(t) * x - std::sin(t) * side, std::sin(t) * x + std::cos(t) * side);
     ObstacleMemory mem;
-    mem.Update(scan_of(pts), Pose2{}, 0.0, 1.2);
+    mem.Update(ScanOfPoints(pts), Pose2{}, 0.0, 1.2);
     mem.Gather(Pose2{}, 0.1);
     double strength = 0.0;
     int pairs = 0;
@@ -782,7 +773,7 @@ TEST(ObstacleMemory, WallAxisIsTheRememberedWallsDirectionModulo90) {
   };
   for (int i = 0; i < 120; ++i) pts.emplace_back(-2.0 + 4.0 * next(), -2.0 + 4.0 * next());
   ObstacleMemory mem;
-  mem.Update(scan_of(pts), Pose2{}, 0.0, 1.2);
+  mem.Update(ScanOfPoints(pts), Pose2{}, 0.0, 1.2);
   mem.Gather(Pose2{}, 0.1);
   double strength = 0.0;
   int pairs = 0;
