@@ -360,10 +360,10 @@ struct ExplorerOptions {
   double side_window_m = 0.3;
   double side_wall_max_lateral_m = 1.8;
   // A side's wall abeam is its nearest point with another remembered point within
-  // side_wall_cluster_m of it, not one isolated point: a single point 0.25 m inside the wall of `default`'s east corridor moved
-  // the right wall's line inward, the real wall then read beyond the line, and the robot stopped
-  // for an "opening on the right" 2 m before the north-east L and turned there (session 23). 0:
-  // the nearest point (`squint explore --side-wall-cluster 0`).
+  // side_wall_cluster_m of it, not one isolated point: a single point 0.25 m inside the wall of
+  // `default`'s east corridor moved the right wall's line inward, the real wall then read beyond
+  // the line, and the robot stopped for an "opening on the right" 2 m before the north-east L and
+  // turned there (session 23). 0: the nearest point (`squint explore --side-wall-cluster 0`).
   double side_wall_cluster_m = 0.15;
   double branch_wall_before_m = 0.6;
   double branch_wall_gap_m = 0.3;        // shorter breaks in the wall do not end a wall run...
