@@ -402,6 +402,10 @@ void Explorer::ClearFloorEdgeBand(const Percept& p) {
   memory_.Gather(p.odom_T_robot, p.stamp_s);
 }
 
+double Explorer::WallRunEndAlong(int side) const {
+  return sides_[side].wall_last_m - opt_.side_window_m - travel_in_corridor_m_;
+}
+
 bool Explorer::UseBlocked(double yaw) const {
   // After driving down the corridor for more than the blind range, what lies in the blind zone
   // ahead was seen from farther back (and is remembered): the latest scan's blocked-near columns
@@ -1249,7 +1253,7 @@ bool Explorer::TrackSides(const Percept& p) {
           // Along the axis from the robot: the opening from where this side's wall run ended.
           double a0 = -(0.5 * width + opt_.side_window_m), a1 = -a0;
           if (opt_.floor_edge_band_mouth) {
-            a0 = sides_[side].wall_last_m - opt_.side_window_m - t;
+            a0 = WallRunEndAlong(side);
             a1 = a0 + width;
           }
           floor_edge_candidates_[side] =
@@ -1495,7 +1499,7 @@ bool Explorer::MouthCentre(const Percept& p, int side, double* along_m) const {
   // The near corner also where this side's last wall run ended (as TrackSides takes it): from the
   // corridor the near wall of a branch wider than the corridor is seen only from far off, if at all.
   const SideTrack& tr = sides_[side];
-  if (tr.wall_first_m >= 0.0) along.insert(along.end(), 2, tr.wall_last_m - opt_.side_window_m - travel_in_corridor_m_);
+  if (tr.wall_first_m >= 0.0) along.insert(along.end(), 2, WallRunEndAlong(side));
   std::sort(along.begin(), along.end());
   constexpr double kCluster = 0.3;
   bool found = false;

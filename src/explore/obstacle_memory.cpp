@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <utility>
 
 #include "squint/core/error.hpp"
 
@@ -342,29 +341,19 @@ void ObstacleMemory::SideDistances(const Pose2& odom_T_robot, double axis_yaw, d
                                    double max_lateral_m, double* left_m, double* right_m, double cluster_m) const {
   const Eigen::Vector2d o = odom_T_robot.Translation();
   const Eigen::Vector2d d(std::cos(axis_yaw), std::sin(axis_yaw));
-  // Each side's points abeam: lateral distance and index, nearest first.
-  std::vector<std::pair<double, std::size_t>> side[2];
-  for (std::size_t i = 0; i < gathered_.size(); ++i) {
-    const Eigen::Vector2d q = gathered_[i] - o;
+  double best[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  for (const Eigen::Vector2d& p : gathered_) {
+    const Eigen::Vector2d q = p - o;
     const double s = q.dot(d);
     if (std::abs(s) > along_window_m) continue;
     const double l = d.x() * q.y() - d.y() * q.x();
-    if (l > 0.0 && l < max_lateral_m) side[0].emplace_back(l, i);
-    if (l < 0.0 && -l < max_lateral_m) side[1].emplace_back(-l, i);
+    if (l == 0.0 || std::abs(l) >= max_lateral_m) continue;
+    double& b = best[l > 0.0 ? 0 : 1];
+    // With cluster_m a wall is two points at least: an isolated point is skipped.
+    if (std::abs(l) < b && (cluster_m <= 0.0 || !Isolated(p, cluster_m))) b = std::abs(l);
   }
-  double* out[2] = {left_m, right_m};
-  for (int k = 0; k < 2; ++k) {
-    std::vector<std::pair<double, std::size_t>>& v = side[k];
-    std::sort(v.begin(), v.end());
-    *out[k] = -1.0;
-    for (const auto& [l, i] : v) {
-      // With cluster_m a wall is two points at least: an isolated point is skipped.
-      if (cluster_m <= 0.0 || !Isolated(gathered_[i], cluster_m)) {
-        *out[k] = l;
-        break;
-      }
-    }
-  }
+  *left_m = std::isfinite(best[0]) ? best[0] : -1.0;
+  *right_m = std::isfinite(best[1]) ? best[1] : -1.0;
 }
 
 bool ObstacleMemory::Isolated(const Eigen::Vector2d& point, double radius_m) const {

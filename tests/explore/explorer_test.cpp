@@ -1266,15 +1266,16 @@ TEST(Explorer, SideWallSeenAbeamClosesAGapTowardIt) {
 }
 
 // A straight corridor with nothing beside it but a post 6 cm square whose face stands 0.23 m inside
-// the right wall (one remembered point, abeam for half a metre of travel). Taken for the right wall (the nearest
-// point abeam), it moved that wall's line inward; the real wall then read beyond the line, no wall,
-// and the robot stopped for an opening that is not there (`default`'s east corridor 2 m before its
-// north-east L, which the robot then turned into early and met its inner corner). With
-// side_wall_cluster_m a wall is two points at least: no stop until the corridor's end.
+// the right wall (one remembered point, abeam for half a metre of travel). Taken for the right wall
+// (the nearest point abeam), it moved that wall's line inward; the real wall then read beyond the
+// line, no wall, and the robot stopped for an opening that is not there (`default`'s east corridor
+// 2 m before its north-east L, which the robot then turned into early and met its inner corner).
+// With side_wall_cluster_m a wall is two points at least: no stop until the corridor's end.
 TEST(Explorer, OneStrayPointAbeamIsNoWallAndMakesNoOpening) {
   for (const bool rule : {true, false}) {
     ToyPlan world;
-    world.walls = {{-1, 1, 25, 1}, {-1, -1, 25, -1}, {-1, -1, -1, 1}, {25, -1, 25, 1}, {12.0, -0.77, 12.06, -0.77}, {12.0, -0.77, 12.0, -0.83}, {12.06, -0.77, 12.06, -0.83}};
+    world.walls = {{-1, 1, 25, 1},   {-1, -1, 25, -1},  {-1, -1, -1, 1}, {25, -1, 25, 1},
+                   {12.0, -0.77, 12.06, -0.77},  {12.0, -0.77, 12.0, -0.83},  {12.06, -0.77, 12.06, -0.83}};
     world.pose = {1.0, 0.0, 0.0};
     ExplorerOptions o;
     o.side_wall_cluster_m = rule ? 0.15 : 0.0;

@@ -600,6 +600,8 @@ class Explorer {
   // (line_m: the line's distance from the robot, < 0: none, the plain Free).
   double FreeAcross(const Percept& p, double side_yaw, double line_m) const;
   void ClearFloorEdgeBand(const Percept& p);
+  // Where a side's last wall run ended, along the axis from the robot (negative: behind it).
+  double WallRunEndAlong(int side) const;
   // The unit vector to the left of the corridor axis (odometry frame).
   Eigen::Vector2d AxisLeft() const;
   double SideLineTravel(double yaw, double left_m, double right_m) const;
