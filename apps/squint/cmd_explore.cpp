@@ -128,6 +128,11 @@ struct ExplorerVariants {
   double side_wall_cluster_m = 0.15;
   // The floor-edge band cleared only across the opening's span (ExplorerOptions::floor_edge_band_mouth).
   bool floor_edge_band_mouth = true;
+  // Forward travel stops where the disc moved this far would cover a never-known-free cell beside
+  // its path (ExplorerOptions::guard_unknown_step_m; 0: off).
+  double guard_unknown_step_m = 0.0;
+  // An opening's far edge only at points on that side's wall line (ExplorerOptions::far_edge_on_line).
+  bool far_edge_on_line = false;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -167,6 +172,8 @@ struct ExplorerVariants {
     ro.explorer.memory.blocked_hold_in_view = blocked_hold_in_view;
     ro.explorer.side_wall_cluster_m = side_wall_cluster_m;
     ro.explorer.floor_edge_band_mouth = floor_edge_band_mouth;
+    ro.explorer.guard_unknown_step_m = guard_unknown_step_m;
+    ro.explorer.far_edge_on_line = far_edge_on_line;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -269,6 +276,12 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("--floor-edge-band-mouth,!--no-floor-edge-band-mouth", floor_edge_band_mouth,
                   text("With --floor-edge-openings: the floor-edge band cleared from the memory when the robot turns into such an opening spans only the opening (from where that side's wall ended, for its width), not the stop's surroundings: stopped short of a T's centre, the band reached back over the corridor's own wall, cleared its end, and the robot met the corner (on by default since session 23; docs/explore.md, session 23)"));
+    cmd->add_option("--guard-unknown", guard_unknown_step_m,
+                    text("Forward travel stops where the robot's disc, moved this many metres ahead, would cover floor beside its path never known free (floor not seen there, no sonar column's floor showing across it from the bottom row, the robot never on it): the camera sees nothing beside the robot, and a box or column that left the view in the near blind zone was met with the robot's flank (0: off, the default: with 0.2 three of the obstacle course's four flank contacts went, but a robot started near a wall, whose blind zone the camera never sees free, stood still, and the seeded starts' coverage fell from 0.776 to 0.739 on seeds 1-8; docs/explore.md, session 24)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_flag("--far-edge-on-line,!--no-far-edge-on-line", far_edge_on_line,
+                  text("With --floor-edge-openings: a side opening's far edge is a remembered point on that side's wall line (within the tolerance), where the wall resumes, the branch's far corner or an end wall lies, not one inside the branch: a cluster of points 0.6 m inside a dead end's mouth made it a door recess (off by default; docs/explore.md, session 24)"));
     cmd->add_flag("--scan-blind-start,!--no-scan-blind-start", scan_blind_start,
                   text("At the start, a view blind to the visual sonar (nearly all columns blocked near) is not taken for a corridor whatever the glance says: the robot looks all around first (on by default since session 18; docs/explore.md, session 18)"));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,

@@ -165,6 +165,8 @@ std::string ExplorerOptions::Validate() const {
   if (!Positive(mouth_speed_mps)) return "mouth_speed_mps must be positive";
   if (std::string e = memory.Validate(); !e.empty()) return "memory." + e;
   if (std::string e = map.Validate(); !e.empty()) return "map." + e;
+  if (!NonNegative(guard_unknown_step_m)) return "guard_unknown_step_m must be >= 0";
+  if (!NonNegative(guard_unknown_inner_m)) return "guard_unknown_inner_m must be >= 0";
   return {};
 }
 
@@ -180,7 +182,16 @@ const char* StateName(ExploreState s) {
   return "?";
 }
 
-Explorer::Explorer(const ExplorerOptions& options) : opt_(options), map_(options.map), memory_(options.memory) {
+namespace {
+ObstacleMemoryOptions MemoryOptions(const ExplorerOptions& o) {
+  ObstacleMemoryOptions m = o.memory;
+  m.mark_known_free = m.mark_known_free || o.guard_unknown_step_m > 0.0;
+  return m;
+}
+}  // namespace
+
+Explorer::Explorer(const ExplorerOptions& options)
+    : opt_(options), map_(options.map), memory_(MemoryOptions(options)) {
   const std::string err = opt_.Validate();
   SQUINT_ENSURE(err.empty(), "ExplorerOptions: " + err);
   ref_entropy_.reserve(static_cast<std::size_t>(opt_.reference_window));
@@ -224,6 +235,7 @@ Command Explorer::Step(const Percept& p) {
     state_ = ExploreState::kAlign;  // look first; scan only when the view is not a corridor
   }
   UpdateMapPose(p);
+  memory_.MarkFootprint(p.odom_T_robot, opt_.robot_radius_m, p.stamp_s);  // with guard_unknown_step_m
   UpdateSonar(p);
   NoteWallLinesAhead(p);
   Command cmd;
@@ -475,6 +487,13 @@ Command Explorer::Guard(const Percept& p, Command cmd) {
     // Forward only into what a scan has seen from (about) this heading.
     if (std::abs(WrapPi(p.odom_T_robot.yaw - last_scan_yaw_)) > DegToRad(opt_.rescan_yaw_deg)) {
       ++speed_limited_;
+      return {0.0, cmd.omega_rps};
+    }
+    // Nothing unknown beside the path, where the camera does not look.
+    if (opt_.guard_unknown_step_m > 0.0 &&
+        memory_.UnknownBeside(p.odom_T_robot, p.odom_T_robot.yaw, opt_.robot_radius_m, opt_.guard_unknown_step_m,
+                              opt_.guard_unknown_inner_m, p.stamp_s)) {
+      ++unknown_stops_;
       return {0.0, cmd.omega_rps};
     }
     // The disc's free travel along the heading now and the heading half a second on.
@@ -1201,6 +1220,8 @@ bool Explorer::TrackSides(const Percept& p) {
     if (line_at[k] > 0.0 && std::abs(l) > line_at[k] + opt_.branch_line_tolerance_m &&
         std::abs(l) <= line_at[k] + opt_.branch_line_band_m)
       continue;  // beyond an armed side's wall line: a floor edge seen through the opening
+    if (opt_.far_edge_on_line && line_at[k] > 0.0 && std::abs(l) > line_at[k] + opt_.branch_line_tolerance_m)
+      continue;  // inside the branch, beyond the line the far edge lies on
     double& a = ahead[k];
     if (a < 0.0 || s < a) a = s;
   }

@@ -39,7 +39,7 @@ ObstacleMemory::ObstacleMemory(const ObstacleMemoryOptions& options) : options_(
 
 void ObstacleMemory::Clear() {
   for (Cell& c : cells_) {
-    c.stamp_s = c.free_stamp_s = -1.0;
+    c.stamp_s = c.free_stamp_s = c.known_free_s = -1.0;
     c.soft = false;
     c.scans = 0;
     c.confirmed = false;
@@ -59,6 +59,67 @@ ObstacleMemory::Cell& ObstacleMemory::At(const Eigen::Vector2d& p) {
   const int ii = ((i % n) + n) % n;
   const int jj = ((j % n) + n) % n;
   return cells_[static_cast<std::size_t>(jj * n + ii)];
+}
+
+void ObstacleMemory::MarkKnownFree(const Eigen::Vector2d& p, double stamp_s) {
+  if (!options_.mark_known_free) return;
+  Cell& c = At(p);
+  c.known_free_s = stamp_s;
+  c.known_i = static_cast<int>(std::floor(p.x() / options_.cell_m));
+  c.known_j = static_cast<int>(std::floor(p.y() / options_.cell_m));
+}
+
+void ObstacleMemory::MarkBlindKnownFree(const Eigen::Vector2d& origin, const Eigen::Vector2d& d, double to_m,
+                                       double stamp_s) {
+  // The column's floor shows from its bottom row: nothing standing taller than the bottom row's
+  // ray (0.43 m at the camera foot, down to the floor at the blind range) crosses it there.
+  if (!options_.mark_known_free) return;
+  for (double s = 0.0; s < to_m; s += 0.5 * options_.cell_m) MarkKnownFree(origin + s * d, stamp_s);
+}
+
+bool ObstacleMemory::KnownFree(const Eigen::Vector2d& p, double now_s) const {
+  const Cell& c = At(p);
+  return c.known_free_s >= 0.0 && now_s - c.known_free_s <= options_.keep_seconds &&
+         c.known_i == static_cast<int>(std::floor(p.x() / options_.cell_m)) &&
+         c.known_j == static_cast<int>(std::floor(p.y() / options_.cell_m));
+}
+
+void ObstacleMemory::MarkFootprint(const Pose2& odom_T_robot, double radius_m, double stamp_s) {
+  if (!options_.mark_known_free) return;
+  const Eigen::Vector2d o = odom_T_robot.Translation();
+  const double cell = options_.cell_m;
+  const int i0 = static_cast<int>(std::floor((o.x() - radius_m) / cell));
+  const int i1 = static_cast<int>(std::floor((o.x() + radius_m) / cell));
+  const int j0 = static_cast<int>(std::floor((o.y() - radius_m) / cell));
+  const int j1 = static_cast<int>(std::floor((o.y() + radius_m) / cell));
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      const Eigen::Vector2d centre((i + 0.5) * cell, (j + 0.5) * cell);
+      if ((centre - o).squaredNorm() <= radius_m * radius_m) MarkKnownFree(centre, stamp_s);
+    }
+}
+
+bool ObstacleMemory::UnknownBeside(const Pose2& odom_T_robot, double yaw, double radius_m, double step_m,
+                                   double inner_m, double now_s) const {
+  const Eigen::Vector2d o = odom_T_robot.Translation();
+  const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
+  const Eigen::Vector2d to = o + step_m * d;
+  const double cell = options_.cell_m;
+  const double reach = radius_m + step_m;
+  const int i0 = static_cast<int>(std::floor((o.x() - reach) / cell));
+  const int i1 = static_cast<int>(std::floor((o.x() + reach) / cell));
+  const int j0 = static_cast<int>(std::floor((o.y() - reach) / cell));
+  const int j1 = static_cast<int>(std::floor((o.y() + reach) / cell));
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      const Eigen::Vector2d centre((i + 0.5) * cell, (j + 0.5) * cell);
+      const Eigen::Vector2d q = centre - o;
+      // Newly covered by the moved disc, ahead of the centre, beside the path.
+      if ((centre - to).squaredNorm() > radius_m * radius_m || q.squaredNorm() <= radius_m * radius_m) continue;
+      if (q.dot(d) <= 0.0 || std::abs(d.x() * q.y() - d.y() * q.x()) < inner_m) continue;
+      if (!KnownFree(centre, now_s)) return true;
+    }
+  return false;
 }
 
 void ObstacleMemory::Insert(const Eigen::Vector2d& p, const Eigen::Vector2d& from, double stamp_s) {
@@ -105,7 +166,10 @@ void ObstacleMemory::ClearRay(const Eigen::Vector2d& origin, double yaw, double 
   const double start = std::min(from_m, options_.blind_points_from_m);
   for (double s = start; s < to_m; s += step) {
     Cell& c = At(origin + s * d);
-    if (s >= seen_from_m) c.free_stamp_s = stamp_s;
+    if (s >= seen_from_m) {
+      c.free_stamp_s = stamp_s;
+      MarkKnownFree(origin + s * d, stamp_s);
+    }
     if (c.stamp_s < 0.0 || (s < from_m && !c.soft)) continue;
     // Only points on this side of the boundary and on the ray itself (within half the spacing
     // of neighbouring columns): a cell may hold a point beside the ray, such as a wall corner.
@@ -208,14 +272,18 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
         InsertBlindRay(o, yaw, near_blind_m, stamp_s);
         break;
       case SonarReturn::kBoundary: {
+        MarkBlindKnownFree(o, d, near_blind_m, stamp_s);
         const double from = c.range_m >= options_.clear_blind_min_range_m ? 0.0 : near_blind_m;
         ClearRay(o, yaw, from, std::min(c.range_m - clear_margin, own_to), near_blind_m, stamp_s);
         Insert(o + c.range_m * d, o, stamp_s);
         break;
       }
       case SonarReturn::kUnknown:
+        // Its bottom rows look like this frame's floor: nothing stands in front of them either.
+        MarkBlindKnownFree(o, d, near_blind_m, stamp_s);
         break;
       case SonarReturn::kFar:
+        MarkBlindKnownFree(o, d, near_blind_m, stamp_s);
         ClearRay(o, yaw, 0.0, std::min({c.range_m, options_.query_radius_m + options_.cell_m, own_to}), near_blind_m, stamp_s);
         break;
     }

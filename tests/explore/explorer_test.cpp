@@ -1302,6 +1302,45 @@ TEST(Explorer, OneStrayPointAbeamIsNoWallAndMakesNoOpening) {
   }
 }
 
+// A corridor with a dead-end branch 1.8 m wide to the right (x = 12 to 13.8) and a box inside it,
+// its face 0.65 m beyond the right wall's line (beyond the floor-edge band), its near end 1.2 m past
+// the wall's end (nearer, the wall's end hides it from the toy's 60° view). The opening's far edge
+// was the nearest remembered point ahead on that side, the box: the opening reads 1.35 m wide, a
+// door recess under a minimum of 1.5 m here, no stop (`default`'s south stem on seed 12's 45-minute
+// run: a cluster 0.6 m inside it made it 1.16 m wide, under the default 1.2 m). With
+// far_edge_on_line the far edge lies on the wall's line, the branch's far corner: 1.76 m, a stop.
+TEST(Explorer, ABoxInsideABranchIsNotItsFarEdge) {
+  for (const bool rule : {true, false}) {
+    ToyPlan world;
+    world.walls = {{-1, 1, 25, 1},     {-1, -1, 12, -1},  {13.8, -1, 25, -1},  {-1, -1, -1, 1},
+                   {25, -1, 25, 1},    {12, -1, 12, -4},  {13.8, -1, 13.8, -4}, {12, -4, 13.8, -4},
+                   {12.5, -1.65, 13.45, -1.65}, {12.5, -1.65, 12.5, -1.95}, {13.45, -1.65, 13.45, -1.95}, {12.5, -1.95, 13.45, -1.95}};
+    world.pose = {1.0, 0.0, 0.0};
+    ExplorerOptions o;
+    o.branch_min_width_m = 1.5;
+    o.far_edge_on_line = rule;
+    Explorer explorer(o);
+    double junction_x = -1.0;
+    bool hit_wall = false;
+    for (int i = 0; i < 30 * 60 && world.pose.x < 20.0 && !hit_wall && junction_x < 0.0; ++i) {
+      const std::size_t n_events = explorer.Events().size();
+      world.Apply(explorer.Step(world.Perceive()));
+      for (std::size_t k = n_events; k < explorer.Events().size(); ++k)
+        if (explorer.Events()[k].kind == ExploreEvent::Kind::kJunction && junction_x < 0.0) junction_x = world.pose.x;
+      for (double a = -kPi; a < kPi; a += kPi / 36)
+        if (world.Ray(world.pose.x, world.pose.y, a) < 0.25) hit_wall = true;
+    }
+    EXPECT_FALSE(hit_wall) << rule;
+    if (rule) {
+      EXPECT_GT(junction_x, 12.4);  // stopped at the mouth's centre (12.9)
+      EXPECT_LT(junction_x, 13.4);
+    } else {
+      EXPECT_LT(junction_x, 0.0);  // passed as a door recess
+      EXPECT_GE(world.pose.x, 20.0);
+    }
+  }
+}
+
 TEST(Explorer, OptionsValidateNamesTheField) {
   {
     ExplorerOptions o;

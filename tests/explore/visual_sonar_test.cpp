@@ -922,5 +922,67 @@ TEST(ObstacleMemory, SoftPointsYieldToFloorSeen) {
   EXPECT_NEAR(mem.FreeTravel(back, 0.0, 0.35, 5.0), 2.9 - 0.35, 0.05);
 }
 
+// The floor beside the robot's path (where the camera never looks) is known free where a column's
+// floor showed from the bottom row across it in the near blind zone, or where the robot's disc
+// was; a blocked-near column proves nothing there, and a cell marked one grid period (6.4 m) away
+// does not count. Moved 0.2 m ahead, a disc of 0.22 m newly covers four cells at least 0.12 m
+// beside its path: centres at bearings ±23° and ±31°, 0.38 and 0.29 m away, inside the 0.6 m blind
+// range.
+TEST(ObstacleMemory, UnknownBesideThePathUntilKnownFree) {
+  const CameraModel cam = SonarCamera();
+  const Pose2 at{};
+  constexpr double kRadius = 0.22, kStep = 0.2, kInner = 0.12, kBlind = 0.6;
+  ObstacleMemoryOptions opt;
+  opt.mark_known_free = true;
+  auto unknown = [&](const ObstacleMemory& m, double now_s) {
+    return m.UnknownBeside(at, at.yaw, kRadius, kStep, kInner, now_s);
+  };
+  const ObstacleMemory fresh(opt);
+  EXPECT_TRUE(unknown(fresh, 0.0));
+  // Floor from the bottom row up to a wall 2.5 m ahead in every column: the cells are crossed.
+  ObstacleMemory seen(opt);
+  seen.Update(WallScan(cam, 2.5), at, 0.0, kBlind);
+  EXPECT_FALSE(unknown(seen, 0.0));
+  EXPECT_TRUE(unknown(seen, ObstacleMemoryOptions{}.keep_seconds + 1.0));  // forgotten
+  // The same with columns whose bottom rows look like the floor (no step seen: unknown).
+  std::vector<SonarColumn> floorlike = WallScan(cam, 2.5);
+  for (SonarColumn& c : floorlike) c.kind = SonarReturn::kUnknown;
+  ObstacleMemory like(opt);
+  like.Update(floorlike, at, 0.0, kBlind);
+  EXPECT_FALSE(unknown(like, 0.0));
+  // Only the columns within 0.1 rad of the heading: they cross none of the four cells.
+  std::vector<SonarColumn> narrow;
+  for (const SonarColumn& c : WallScan(cam, 2.5))
+    if (std::abs(c.bearing_rad) < 0.1) narrow.push_back(c);
+  ASSERT_FALSE(narrow.empty());
+  ObstacleMemory part(opt);
+  part.Update(narrow, at, 0.0, kBlind);
+  EXPECT_TRUE(unknown(part, 0.0));
+  // Every column blocked near: something may stand anywhere in the blind zone.
+  std::vector<SonarColumn> blocked = WallScan(cam, 2.5);
+  for (SonarColumn& c : blocked) {
+    c.kind = SonarReturn::kBlockedNear;
+    c.range_m = 0.0;
+  }
+  ObstacleMemory near(opt);
+  near.Update(blocked, at, 0.0, kBlind);
+  EXPECT_TRUE(unknown(near, 0.0));
+  // The disc stood 0.2 m ahead: it covered the four cells.
+  ObstacleMemory trod(opt);
+  trod.MarkFootprint(Pose2{kStep, 0.0, 0.0}, kRadius, 0.0);
+  EXPECT_FALSE(unknown(trod, 0.0));
+  // ...not when it stood there one grid period (64 cells of 0.1 m) on: the same cells of the torus.
+  ObstacleMemory aliased(opt);
+  aliased.MarkFootprint(Pose2{kStep + 6.4, 0.0, 0.0}, kRadius, 0.0);
+  EXPECT_TRUE(unknown(aliased, 0.0));
+  // Without mark_known_free nothing is marked.
+  ObstacleMemory unmarked;
+  unmarked.Update(WallScan(cam, 2.5), at, 0.0, kBlind);
+  unmarked.MarkFootprint(Pose2{kStep, 0.0, 0.0}, kRadius, 0.0);
+  EXPECT_TRUE(unknown(unmarked, 0.0));
+  // Not moving, the disc covers nothing new.
+  EXPECT_FALSE(fresh.UnknownBeside(at, at.yaw, kRadius, 0.0, kInner, 0.0));
+}
+
 }  // namespace
 }  // namespace squint::explore

@@ -84,6 +84,10 @@ struct ObstacleMemoryOptions {
   // on by default since session 23, whose side_wall_cluster_m removed that false opening
   // (`squint explore --no-blocked-hold-in-view`; docs/explore.md, sessions 22 and 23).
   bool blocked_hold_in_view = true;
+  // Keep which cells are known free of anything standing (UnknownBeside; the explorer's
+  // guard_unknown_step_m turns it on): floor seen there, a column whose floor shows from its
+  // bottom row crossing it in the blind zone, or the robot's disc (MarkFootprint).
+  bool mark_known_free = false;
   std::string Validate() const;
 };
 
@@ -139,6 +143,15 @@ class ObstacleMemory {
   // Removes the remembered points (not confirmed ones) inside the rectangle [s0, s1] × [l0, l1] of
   // the frame `frame` (s along its yaw, l to its left); returns how many. Gather again after it.
   int ClearRect(const Pose2& frame, double s0, double s1, double l0, double l1);
+  // The cells under a disc of radius_m around the robot are known free (it stands there). Called
+  // every frame; nothing else changes.
+  void MarkFootprint(const Pose2& odom_T_robot, double radius_m, double stamp_s);
+  // True when the disc of radius_m, moved step_m along `yaw`, would cover a cell whose centre is
+  // at least inner_m to the side of its path (the camera's view does not reach beside the robot)
+  // and which was not known free within keep_seconds of now_s: floor never seen there, beside
+  // the robot where something may stand that the camera lost in its near blind zone.
+  bool UnknownBeside(const Pose2& odom_T_robot, double yaw, double radius_m, double step_m, double inner_m,
+                     double now_s) const;
   // The remembered boundary points (not soft ones, not older than keep_seconds at now_s) inside
   // the rectangle [s0, s1] × [l0, l1] of `frame`, appended to *out as (s, l), whatever their
   // distance from the robot (the grid's period bounds what can still be there).
@@ -154,12 +167,22 @@ class ObstacleMemory {
     int scans = 0;               // scans that saw a boundary in this cell (see confirm_scans)
     Eigen::Vector2d first_from = Eigen::Vector2d::Zero();  // where the first of them was taken
     bool confirmed = false;
+    // When this cell was last known free of anything standing (< 0: never): floor seen there, a
+    // column whose floor showed from its bottom row crossing it in the blind zone, or the robot's
+    // own disc on it. known_i/known_j name the cell unwrapped (the grid is toroidal).
+    double known_free_s = -1.0;
+    int known_i = 0, known_j = 0;
   };
   Cell& At(const Eigen::Vector2d& p);
   const Cell& At(const Eigen::Vector2d& p) const { return const_cast<ObstacleMemory*>(this)->At(p); }
   // True when floor was seen (within keep_seconds of `now_s`) along the ray from from_m to to_m.
   bool SeenFree(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double now_s) const;
   void Insert(const Eigen::Vector2d& p, const Eigen::Vector2d& from, double stamp_s);
+  // Marks the cell holding p known free at stamp_s.
+  void MarkKnownFree(const Eigen::Vector2d& p, double stamp_s);
+  bool KnownFree(const Eigen::Vector2d& p, double now_s) const;
+  // Marks the cells along a column's ray in the near blind zone (to to_m) known free.
+  void MarkBlindKnownFree(const Eigen::Vector2d& origin, const Eigen::Vector2d& d, double to_m, double stamp_s);
   // Soft points along a blocked-near ray where the floor was not seen.
   void InsertBlindRay(const Eigen::Vector2d& origin, double yaw, double to_m, double stamp_s);
   // Removes points along the ray from from_m to to_m; marks floor seen from seen_from_m on.
