@@ -379,7 +379,9 @@ struct ExplorerOptions {
   // branch_line_tolerance_m beyond that side's wall line: the wall resuming, the branch's far
   // corner or an end wall all reach the line, a cluster inside the branch does not (`default`, the
   // 45-minute run of seed 12: points 0.6 m inside the south stem made its mouth 1.16 m wide, a door
-  // recess). Off: any point ahead on that side, but the floor-edge band.
+  // recess). Off, the default: any point ahead on that side, but the floor-edge band (session 24:
+  // on, seed 12 covers 0.999, but seeds 5, 8 and 11 of 16 miss the middle corridor on routes
+  // that part at the first junction; `squint explore --far-edge-on-line`).
   bool far_edge_on_line = false;
   double branch_wall_before_m = 0.6;
   double branch_wall_gap_m = 0.3;        // shorter breaks in the wall do not end a wall run...
