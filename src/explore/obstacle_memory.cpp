@@ -84,19 +84,26 @@ bool ObstacleMemory::KnownFree(const Eigen::Vector2d& p, double now_s) const {
          c.known_j == static_cast<int>(std::floor(p.y() / options_.cell_m));
 }
 
+template <class F>
+bool ObstacleMemory::AnyCellCentreWithin(const Eigen::Vector2d& o, double reach_m, F&& f) const {
+  const double cell = options_.cell_m;
+  const int i0 = static_cast<int>(std::floor((o.x() - reach_m) / cell));
+  const int i1 = static_cast<int>(std::floor((o.x() + reach_m) / cell));
+  const int j0 = static_cast<int>(std::floor((o.y() - reach_m) / cell));
+  const int j1 = static_cast<int>(std::floor((o.y() + reach_m) / cell));
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i)
+      if (f(Eigen::Vector2d((i + 0.5) * cell, (j + 0.5) * cell))) return true;
+  return false;
+}
+
 void ObstacleMemory::MarkFootprint(const Pose2& odom_T_robot, double radius_m, double stamp_s) {
   if (!options_.mark_known_free) return;
   const Eigen::Vector2d o = odom_T_robot.Translation();
-  const double cell = options_.cell_m;
-  const int i0 = static_cast<int>(std::floor((o.x() - radius_m) / cell));
-  const int i1 = static_cast<int>(std::floor((o.x() + radius_m) / cell));
-  const int j0 = static_cast<int>(std::floor((o.y() - radius_m) / cell));
-  const int j1 = static_cast<int>(std::floor((o.y() + radius_m) / cell));
-  for (int j = j0; j <= j1; ++j)
-    for (int i = i0; i <= i1; ++i) {
-      const Eigen::Vector2d centre((i + 0.5) * cell, (j + 0.5) * cell);
-      if ((centre - o).squaredNorm() <= radius_m * radius_m) MarkKnownFree(centre, stamp_s);
-    }
+  AnyCellCentreWithin(o, radius_m, [&](const Eigen::Vector2d& centre) {
+    if ((centre - o).squaredNorm() <= radius_m * radius_m) MarkKnownFree(centre, stamp_s);
+    return false;
+  });
 }
 
 bool ObstacleMemory::UnknownBeside(const Pose2& odom_T_robot, double yaw, double radius_m, double step_m,
@@ -104,22 +111,13 @@ bool ObstacleMemory::UnknownBeside(const Pose2& odom_T_robot, double yaw, double
   const Eigen::Vector2d o = odom_T_robot.Translation();
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
   const Eigen::Vector2d to = o + step_m * d;
-  const double cell = options_.cell_m;
-  const double reach = radius_m + step_m;
-  const int i0 = static_cast<int>(std::floor((o.x() - reach) / cell));
-  const int i1 = static_cast<int>(std::floor((o.x() + reach) / cell));
-  const int j0 = static_cast<int>(std::floor((o.y() - reach) / cell));
-  const int j1 = static_cast<int>(std::floor((o.y() + reach) / cell));
-  for (int j = j0; j <= j1; ++j)
-    for (int i = i0; i <= i1; ++i) {
-      const Eigen::Vector2d centre((i + 0.5) * cell, (j + 0.5) * cell);
-      const Eigen::Vector2d q = centre - o;
-      // Newly covered by the moved disc, ahead of the centre, beside the path.
-      if ((centre - to).squaredNorm() > radius_m * radius_m || q.squaredNorm() <= radius_m * radius_m) continue;
-      if (q.dot(d) <= 0.0 || std::abs(d.x() * q.y() - d.y() * q.x()) < inner_m) continue;
-      if (!KnownFree(centre, now_s)) return true;
-    }
-  return false;
+  return AnyCellCentreWithin(o, radius_m + step_m, [&](const Eigen::Vector2d& centre) {
+    const Eigen::Vector2d q = centre - o;
+    // Newly covered by the moved disc, ahead of the centre, beside the path.
+    if ((centre - to).squaredNorm() > radius_m * radius_m || q.squaredNorm() <= radius_m * radius_m) return false;
+    if (q.dot(d) <= 0.0 || std::abs(d.x() * q.y() - d.y() * q.x()) < inner_m) return false;
+    return !KnownFree(centre, now_s);
+  });
 }
 
 void ObstacleMemory::Insert(const Eigen::Vector2d& p, const Eigen::Vector2d& from, double stamp_s) {

@@ -1265,6 +1265,27 @@ TEST(Explorer, SideWallSeenAbeamClosesAGapTowardIt) {
   }
 }
 
+// Runs the explorer in a toy plan for up to a minute until the robot is past x = 20 m or within
+// 0.25 m of a wall, or (stop_at_junction) has recorded a junction; gives where the first junction
+// was recorded (x; < 0: none) and whether a wall came that near.
+struct ToyDrive {
+  double junction_x = -1.0;
+  bool hit_wall = false;
+};
+ToyDrive DriveDownTheCorridor(ToyPlan& world, Explorer& explorer, bool stop_at_junction) {
+  ToyDrive r;
+  for (int i = 0; i < 30 * 60 && world.pose.x < 20.0 && !r.hit_wall; ++i) {
+    if (stop_at_junction && r.junction_x >= 0.0) break;
+    const std::size_t n_events = explorer.Events().size();
+    world.Apply(explorer.Step(world.Perceive()));
+    for (std::size_t k = n_events; k < explorer.Events().size(); ++k)
+      if (explorer.Events()[k].kind == ExploreEvent::Kind::kJunction && r.junction_x < 0.0) r.junction_x = world.pose.x;
+    for (double a = -kPi; a < kPi; a += kPi / 36)
+      if (world.Ray(world.pose.x, world.pose.y, a) < 0.25) r.hit_wall = true;
+  }
+  return r;
+}
+
 // A straight corridor with nothing beside it but a post 6 cm square whose face stands 0.23 m inside
 // the right wall (one remembered point, abeam for half a metre of travel). Taken for the right wall
 // (the nearest point abeam), it moved that wall's line inward; the real wall then read beyond the
@@ -1280,17 +1301,9 @@ TEST(Explorer, OneStrayPointAbeamIsNoWallAndMakesNoOpening) {
     ExplorerOptions o;
     o.side_wall_cluster_m = rule ? 0.15 : 0.0;
     Explorer explorer(o);
-    double junction_x = -1.0;
-    bool hit_wall = false;
-    for (int i = 0; i < 30 * 60 && world.pose.x < 20.0 && !hit_wall; ++i) {
-      const std::size_t n_events = explorer.Events().size();
-      world.Apply(explorer.Step(world.Perceive()));
-      for (std::size_t k = n_events; k < explorer.Events().size(); ++k)
-        if (explorer.Events()[k].kind == ExploreEvent::Kind::kJunction && junction_x < 0.0) junction_x = world.pose.x;
-      for (double a = -kPi; a < kPi; a += kPi / 36)
-        if (world.Ray(world.pose.x, world.pose.y, a) < 0.25) hit_wall = true;
-    }
-    EXPECT_FALSE(hit_wall) << rule;
+    const ToyDrive run = DriveDownTheCorridor(world, explorer, /*stop_at_junction=*/false);
+    const double junction_x = run.junction_x;
+    EXPECT_FALSE(run.hit_wall) << rule;
     if (rule) {
       EXPECT_GE(world.pose.x, 20.0);  // down the corridor without a stop
       EXPECT_EQ(explorer.JunctionsDetected(), 0);
@@ -1314,23 +1327,16 @@ TEST(Explorer, ABoxInsideABranchIsNotItsFarEdge) {
     ToyPlan world;
     world.walls = {{-1, 1, 25, 1},     {-1, -1, 12, -1},  {13.8, -1, 25, -1},  {-1, -1, -1, 1},
                    {25, -1, 25, 1},    {12, -1, 12, -4},  {13.8, -1, 13.8, -4}, {12, -4, 13.8, -4},
-                   {12.5, -1.65, 13.45, -1.65}, {12.5, -1.65, 12.5, -1.95}, {13.45, -1.65, 13.45, -1.95}, {12.5, -1.95, 13.45, -1.95}};
+                   {12.5, -1.65, 13.45, -1.65}, {12.5, -1.65, 12.5, -1.95},
+                   {13.45, -1.65, 13.45, -1.95}, {12.5, -1.95, 13.45, -1.95}};
     world.pose = {1.0, 0.0, 0.0};
     ExplorerOptions o;
     o.branch_min_width_m = 1.5;
     o.far_edge_on_line = rule;
     Explorer explorer(o);
-    double junction_x = -1.0;
-    bool hit_wall = false;
-    for (int i = 0; i < 30 * 60 && world.pose.x < 20.0 && !hit_wall && junction_x < 0.0; ++i) {
-      const std::size_t n_events = explorer.Events().size();
-      world.Apply(explorer.Step(world.Perceive()));
-      for (std::size_t k = n_events; k < explorer.Events().size(); ++k)
-        if (explorer.Events()[k].kind == ExploreEvent::Kind::kJunction && junction_x < 0.0) junction_x = world.pose.x;
-      for (double a = -kPi; a < kPi; a += kPi / 36)
-        if (world.Ray(world.pose.x, world.pose.y, a) < 0.25) hit_wall = true;
-    }
-    EXPECT_FALSE(hit_wall) << rule;
+    const ToyDrive run = DriveDownTheCorridor(world, explorer, /*stop_at_junction=*/true);
+    const double junction_x = run.junction_x;
+    EXPECT_FALSE(run.hit_wall) << rule;
     if (rule) {
       EXPECT_GT(junction_x, 12.4);  // stopped at the mouth's centre (12.9)
       EXPECT_LT(junction_x, 13.4);

@@ -178,6 +178,10 @@ class ObstacleMemory {
   // True when floor was seen (within keep_seconds of `now_s`) along the ray from from_m to to_m.
   bool SeenFree(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double now_s) const;
   void Insert(const Eigen::Vector2d& p, const Eigen::Vector2d& from, double stamp_s);
+  // Calls f(centre) for each cell centre in the square of half side reach_m around o, until f
+  // returns true (then true).
+  template <class F>
+  bool AnyCellCentreWithin(const Eigen::Vector2d& o, double reach_m, F&& f) const;
   // Marks the cell holding p known free at stamp_s.
   void MarkKnownFree(const Eigen::Vector2d& p, double stamp_s);
   bool KnownFree(const Eigen::Vector2d& p, double now_s) const;
