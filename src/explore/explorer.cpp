@@ -493,7 +493,6 @@ Command Explorer::Guard(const Percept& p, Command cmd) {
     if (opt_.guard_unknown_step_m > 0.0 &&
         memory_.UnknownBeside(p.odom_T_robot, p.odom_T_robot.yaw, opt_.robot_radius_m, opt_.guard_unknown_step_m,
                               opt_.guard_unknown_inner_m, p.stamp_s)) {
-      ++unknown_stops_;
       return {0.0, cmd.omega_rps};
     }
     // The disc's free travel along the heading now and the heading half a second on.
@@ -1217,11 +1216,11 @@ bool Explorer::TrackSides(const Percept& p) {
     const double l = d.x() * q.y() - d.y() * q.x();
     if (std::abs(l) < opt_.robot_radius_m || std::abs(l) > opt_.side_wall_max_lateral_m + 1.5) continue;
     const int k = l > 0.0 ? 0 : 1;
+    // Beyond an armed side's wall line: a floor edge seen through the opening (within the band),
+    // or with far_edge_on_line anything inside the branch (the far edge lies on the line).
     if (line_at[k] > 0.0 && std::abs(l) > line_at[k] + opt_.branch_line_tolerance_m &&
-        std::abs(l) <= line_at[k] + opt_.branch_line_band_m)
-      continue;  // beyond an armed side's wall line: a floor edge seen through the opening
-    if (opt_.far_edge_on_line && line_at[k] > 0.0 && std::abs(l) > line_at[k] + opt_.branch_line_tolerance_m)
-      continue;  // inside the branch, beyond the line the far edge lies on
+        (opt_.far_edge_on_line || std::abs(l) <= line_at[k] + opt_.branch_line_band_m))
+      continue;
     double& a = ahead[k];
     if (a < 0.0 || s < a) a = s;
   }

@@ -262,6 +262,9 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
                             c.own_range_m < c.range_m;
     const double own_to = own_limits ? c.own_range_m - clear_margin : std::numeric_limits<double>::infinity();
     const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
+    // A column whose bottom rows show floor (a boundary above it, the floor up to the horizon, or
+    // floor-like rows without a step): nothing stands in front of it inside the blind zone.
+    if (c.kind != SonarReturn::kBlockedNear) MarkBlindKnownFree(o, d, near_blind_m, stamp_s);
     switch (c.kind) {
       case SonarReturn::kBlockedNear:
         // Something nearer than the blind range, at an unknown distance: not remembered (it
@@ -270,18 +273,14 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
         InsertBlindRay(o, yaw, near_blind_m, stamp_s);
         break;
       case SonarReturn::kBoundary: {
-        MarkBlindKnownFree(o, d, near_blind_m, stamp_s);
         const double from = c.range_m >= options_.clear_blind_min_range_m ? 0.0 : near_blind_m;
         ClearRay(o, yaw, from, std::min(c.range_m - clear_margin, own_to), near_blind_m, stamp_s);
         Insert(o + c.range_m * d, o, stamp_s);
         break;
       }
       case SonarReturn::kUnknown:
-        // Its bottom rows look like this frame's floor: nothing stands in front of them either.
-        MarkBlindKnownFree(o, d, near_blind_m, stamp_s);
         break;
       case SonarReturn::kFar:
-        MarkBlindKnownFree(o, d, near_blind_m, stamp_s);
         ClearRay(o, yaw, 0.0, std::min({c.range_m, options_.query_radius_m + options_.cell_m, own_to}), near_blind_m, stamp_s);
         break;
     }

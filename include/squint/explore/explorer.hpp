@@ -549,8 +549,6 @@ class Explorer {
   const ObstacleMemory& Memory() const { return memory_; }
   // Times the sonar safety layer lowered a forward command (for logs).
   long SpeedLimited() const { return speed_limited_; }
-  // Frames whose forward travel guard_unknown_step_m stopped.
-  long UnknownStops() const { return unknown_stops_; }
   int EndsDetected() const { return ends_; }
   // Side openings met while following and recorded as junctions (stopped at or passed).
   int JunctionsDetected() const { return junctions_; }
@@ -812,7 +810,6 @@ class Explorer {
   double last_wall_lines_ = 0.0;  // the latest scan's Percept::sonar_wall_lines (over wall_lines_hold_s)
   std::deque<std::pair<double, double>> wall_lines_recent_;  // (stamp, fraction) within wall_lines_hold_s
   long speed_limited_ = 0;
-  long unknown_stops_ = 0;
   bool rescan_ = false;  // the scan under way is a recovery (keeps the map frame)
 
   // Obstacle override: the latest advice, when and at which odometry yaw it was taken.
