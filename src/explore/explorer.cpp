@@ -121,6 +121,7 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(light_hold_s)) return "light_hold_s must be >= 0";
   if (!Positive(rescan_yaw_deg)) return "rescan_yaw_deg must be positive";
   if (!NonNegative(trust_memory_after_m)) return "trust_memory_after_m must be >= 0";
+  if (!(probe_max_wall_lines >= 0.0 && probe_max_wall_lines <= 1.0)) return "probe_max_wall_lines must be in [0, 1]";
   if (!(trust_memory_max_wall_lines >= 0.0 && trust_memory_max_wall_lines <= 1.0)) return "trust_memory_max_wall_lines must be in [0, 1]";
   if (!(blind_view_fraction > 0.0 && blind_view_fraction <= 1.0)) return "blind_view_fraction must be in (0, 1]";
   if (!NonNegative(blind_view_entropy_ratio)) return "blind_view_entropy_ratio must be >= 0";
@@ -167,6 +168,7 @@ std::string ExplorerOptions::Validate() const {
   if (std::string e = map.Validate(); !e.empty()) return "map." + e;
   if (!NonNegative(guard_unknown_step_m)) return "guard_unknown_step_m must be >= 0";
   if (!NonNegative(guard_unknown_inner_m)) return "guard_unknown_inner_m must be >= 0";
+  if (!NonNegative(guard_unknown_after_m)) return "guard_unknown_after_m must be >= 0";
   return {};
 }
 
@@ -490,7 +492,7 @@ Command Explorer::Guard(const Percept& p, Command cmd) {
       return {0.0, cmd.omega_rps};
     }
     // Nothing unknown beside the path, where the camera does not look.
-    if (opt_.guard_unknown_step_m > 0.0 &&
+    if (opt_.guard_unknown_step_m > 0.0 && odometer_m_ >= opt_.guard_unknown_after_m &&
         memory_.UnknownBeside(p.odom_T_robot, p.odom_T_robot.yaw, opt_.robot_radius_m, opt_.guard_unknown_step_m,
                               opt_.guard_unknown_inner_m, p.stamp_s)) {
       return {0.0, cmd.omega_rps};
@@ -1421,7 +1423,8 @@ Command Explorer::ProbeStep(const Percept& p) {
   const bool open_by_entropy = h >= opt_.open_entropy_ratio * last_ref_entropy_;
   const bool open_by_sonar = side_free_m_[probe_phase_] >= opt_.sonar_open_free_m &&
                              h >= opt_.sonar_open_min_entropy_ratio * last_ref_entropy_ &&
-                             !(opt_.blind_side_needs_lines && last_scan_blind_);
+                             !(opt_.blind_side_needs_lines && last_scan_blind_) &&
+                             !(opt_.probe_max_wall_lines > 0.0 && p.sonar_wall_lines >= opt_.probe_max_wall_lines);
   // At the end of a corridor, the latest scan's blocked-near columns facing this side may be the
   // near wall of a branch whose mouth the robot stands off-centre in (an L corner reached along
   // its end wall): with end_probe_memory, a side the entropy rule calls open is open where the

@@ -331,6 +331,7 @@ struct ToyPlan {
     // blind range (there is no second step above it) and blocked near within it (the floor beyond
     // fills the bottom rows, unlike the floor of the frame's other columns); the robot drives over it.
     bool floor_edge = false;
+    bool brick = false;  // mortar lines: the sonar's wall-line fraction counts its columns within 3 m
   };
   std::vector<Wall> walls;
   Pose2 pose;
@@ -398,6 +399,7 @@ struct ToyPlan {
     }
     if (frame % 3 == 0) {
       scan.resize(64);
+      int lined = 0;
       for (int i = 0; i < 64; ++i) {
         SonarColumn& c = scan[static_cast<std::size_t>(i)];
         c.bearing_rad = DegToRad(30.0 - 60.0 * (i + 0.5) / 64.0);
@@ -411,10 +413,12 @@ struct ToyPlan {
         }
         c.kind = r < kBlind || blind_floor ? SonarReturn::kBlockedNear : r > 6.0 ? SonarReturn::kFar : SonarReturn::kBoundary;
         if (hit != nullptr && !hit->seen && !blind_floor) c.kind = SonarReturn::kUnknown;
+        if (hit != nullptr && hit->brick && r < 3.0) ++lined;
         c.range_m = c.kind == SonarReturn::kBoundary ? r : c.kind == SonarReturn::kBlockedNear ? 0.0 : 6.0;
       }
       p.sonar = &scan;
       p.sonar_near_blind_m = kBlind;
+      p.sonar_wall_lines = lined / 64.0;
       if (bottom_texture) {
         texture.resize(128);
         for (int u = 0; u < 128; ++u) {
@@ -723,6 +727,31 @@ TEST(Explorer, SideFreeBySonarButAWallByEntropyIsAWall) {
     ASSERT_GE(j, 0);
     const TopoNode& node = map.Nodes()[static_cast<std::size_t>(j)];
     EXPECT_EQ(node.branch[3], ratio > 0.0 ? Branch::kWall : Branch::kOpen);  // south: the unseen wall
+    EXPECT_EQ(node.branch[1], Branch::kOpen);                               // north: the branch
+  }
+}
+
+// The same L corner with the unseen right wall of brick and an entropy that does not tell it
+// from a corridor (sonar_open_min_entropy_ratio off): free by the sonar, the right side is open
+// unless the probe scan's brick lines (probe_max_wall_lines) keep it closed.
+TEST(Explorer, SideFreeBySonarButShowingBrickLinesIsAWall) {
+  for (const double lines : {0.0, 0.375}) {
+    SCOPED_TRACE(lines);
+    ToyPlan world;
+    world.walls = {{-1, -1, 25, -1, false}, {-1, 1, 21.5, 1}, {-1, -1, -1, 1}, {25, -1, 25, 12}, {21.5, 1, 21.5, 12}, {21.5, 12, 25, 12}};
+    world.walls[0].brick = true;
+    world.pose = {1.0, 0.0, 0.0};
+    ExplorerOptions o;
+    o.sonar_open_min_entropy_ratio = 0.0;
+    o.probe_max_wall_lines = lines;
+    Explorer explorer(o);
+    for (int i = 0; i < 30 * 90 && explorer.Turns() == 0; ++i) world.Apply(explorer.Step(world.Perceive()));
+    ASSERT_EQ(explorer.Turns(), 1);
+    const TopoMap& map = explorer.Map();
+    const int j = map.NodeNear({explorer.MapPose().x, explorer.MapPose().y});
+    ASSERT_GE(j, 0);
+    const TopoNode& node = map.Nodes()[static_cast<std::size_t>(j)];
+    EXPECT_EQ(node.branch[3], lines > 0.0 ? Branch::kWall : Branch::kOpen);  // south: the unseen brick wall
     EXPECT_EQ(node.branch[1], Branch::kOpen);                               // north: the branch
   }
 }

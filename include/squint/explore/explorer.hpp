@@ -290,6 +290,14 @@ struct ExplorerOptions {
   // the remembered points at a corridor's end, or the entropy rule on a side the sonar showed
   // open while following. Off: `squint explore --no-blind-side-lines`; on since session 18.
   bool blind_side_needs_lines = true;
+  // Probing, a side whose scan facing it shows a brick wall's mortar lines in at least this
+  // fraction of its bands (VisualSonar::WallLineFraction) is not open by the sonar's free travel:
+  // a brick wall within the blind range reads its mortar lines as floor boundaries and its
+  // lit face as floor, and the sonar showed 3 m free facing `default`'s east wall 0.6 m away
+  // (start 2 of seed 17, lines 1.0, entropy 0.71 of the reference). No side open by the sonar in
+  // seeds 1-4's 4,227 probes had more than 0.25. 0 turns it off (`squint explore --probe-wall-lines
+  // 0`); 0.375 since session 25 (docs/explore.md).
+  double probe_max_wall_lines = 0.375;
   bool scan_blind_start = true;  // see start_corridor_entropy_nats
   // An end read by the sonar with less than this free travel along the axis (metres) makes the
   // branch ahead a wall even where the map holds it explored (the robot came that way before): it
@@ -370,11 +378,17 @@ struct ExplorerOptions {
   // seen there, no column's floor showing across it from the bottom row, the disc never on it.
   // The camera sees nothing within 0.6 m, nor beside the robot: a box or a column that left the
   // view in the near blind zone while the robot turned was met with the disc's flank. 0: off, the
-  // default (session 24: with 0.2 three of the obstacle course's four flank contacts went, but a
-  // robot started near a wall, whose blind zone is never seen free, stood still; the seeded starts'
-  // coverage fell from 0.776 to 0.739 on seeds 1-8; `squint explore --guard-unknown`).
+  // default. It does not catch those flank contacts: on the three obstacle-course starts it seemed
+  // to fix (session 24) it fires only right after the start-up scan, and after 0.5 m of travel
+  // (guard_unknown_after_m) the runs are the defaults' (the cells beside the path were marked
+  // known free); the other route taken from a later start missed the obstacles. A robot started
+  // near a wall, whose blind zone is never seen free, stands still: the seeded starts' coverage
+  // fell from 0.776 to 0.739 on seeds 1-8 (`squint explore --guard-unknown`; sessions 24 and 25).
   double guard_unknown_step_m = 0.0;
   double guard_unknown_inner_m = 0.12;
+  // ...and only once the wheels have travelled this far (metres) since the start (0: from the
+  // start; `squint explore --guard-unknown-after`).
+  double guard_unknown_after_m = 0.0;
   // An armed side's opening ends (its far edge) only at remembered points within
   // branch_line_tolerance_m beyond that side's wall line: the wall resuming, the branch's far
   // corner or an end wall all reach the line, a cluster inside the branch does not (`default`, the
