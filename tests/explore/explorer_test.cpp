@@ -708,51 +708,51 @@ TEST(Explorer, OpeningBesideAJunctionJudgedAWallIsLookedAt) {
 }
 
 // An L corner whose right side is a wall the sonar cannot see (its columns read unknown, so the
-// memory holds nothing there and the free travel to that side is full), while the glance's
-// entropy looking at it is a wall's. Without sonar_open_min_entropy_ratio the right side is called
-// open; with it, a wall. The left branch is open either way.
+// memory holds nothing there and the free travel to that side is full); the robot drives to the
+// corner and probes. Returns the corner node's south (the unseen wall) and north (the branch)
+// branches after the first turn.
+std::pair<Branch, Branch> UnseenWallLCorner(const ExplorerOptions& o, bool brick) {
+  ToyPlan world;
+  world.walls = {{-1, -1, 25, -1, false}, {-1, 1, 21.5, 1}, {-1, -1, -1, 1}, {25, -1, 25, 12}, {21.5, 1, 21.5, 12}, {21.5, 12, 25, 12}};
+  world.walls[0].brick = brick;
+  world.pose = {1.0, 0.0, 0.0};
+  Explorer explorer(o);
+  for (int i = 0; i < 30 * 90 && explorer.Turns() == 0; ++i) world.Apply(explorer.Step(world.Perceive()));
+  EXPECT_EQ(explorer.Turns(), 1);
+  const TopoMap& map = explorer.Map();
+  const int j = map.NodeNear({explorer.MapPose().x, explorer.MapPose().y});
+  EXPECT_GE(j, 0);
+  if (j < 0) return {Branch::kUnknown, Branch::kUnknown};
+  const TopoNode& node = map.Nodes()[static_cast<std::size_t>(j)];
+  return {node.branch[3], node.branch[1]};
+}
+
+// The glance's entropy looking at the unseen wall is a wall's. Without
+// sonar_open_min_entropy_ratio the right side is called open; with it, a wall. The left branch is
+// open either way.
 TEST(Explorer, SideFreeBySonarButAWallByEntropyIsAWall) {
   for (const double ratio : {0.0, 0.7}) {
     SCOPED_TRACE(ratio);
-    ToyPlan world;
-    world.walls = {{-1, -1, 25, -1, false}, {-1, 1, 21.5, 1}, {-1, -1, -1, 1}, {25, -1, 25, 12}, {21.5, 1, 21.5, 12}, {21.5, 12, 25, 12}};
-    world.pose = {1.0, 0.0, 0.0};
     ExplorerOptions o;
     o.sonar_open_min_entropy_ratio = ratio;
-    Explorer explorer(o);
-    for (int i = 0; i < 30 * 90 && explorer.Turns() == 0; ++i) world.Apply(explorer.Step(world.Perceive()));
-    ASSERT_EQ(explorer.Turns(), 1);
-    const TopoMap& map = explorer.Map();
-    const int j = map.NodeNear({explorer.MapPose().x, explorer.MapPose().y});
-    ASSERT_GE(j, 0);
-    const TopoNode& node = map.Nodes()[static_cast<std::size_t>(j)];
-    EXPECT_EQ(node.branch[3], ratio > 0.0 ? Branch::kWall : Branch::kOpen);  // south: the unseen wall
-    EXPECT_EQ(node.branch[1], Branch::kOpen);                               // north: the branch
+    const auto [south, north] = UnseenWallLCorner(o, false);
+    EXPECT_EQ(south, ratio > 0.0 ? Branch::kWall : Branch::kOpen);
+    EXPECT_EQ(north, Branch::kOpen);
   }
 }
 
-// The same L corner with the unseen right wall of brick and an entropy that does not tell it
-// from a corridor (sonar_open_min_entropy_ratio off): free by the sonar, the right side is open
-// unless the probe scan's brick lines (probe_max_wall_lines) keep it closed.
+// The unseen wall of brick, and an entropy that does not tell it from a corridor
+// (sonar_open_min_entropy_ratio off): free by the sonar, the right side is open unless the probe
+// scan's brick lines (probe_max_wall_lines) keep it closed.
 TEST(Explorer, SideFreeBySonarButShowingBrickLinesIsAWall) {
   for (const double lines : {0.0, 0.375}) {
     SCOPED_TRACE(lines);
-    ToyPlan world;
-    world.walls = {{-1, -1, 25, -1, false}, {-1, 1, 21.5, 1}, {-1, -1, -1, 1}, {25, -1, 25, 12}, {21.5, 1, 21.5, 12}, {21.5, 12, 25, 12}};
-    world.walls[0].brick = true;
-    world.pose = {1.0, 0.0, 0.0};
     ExplorerOptions o;
     o.sonar_open_min_entropy_ratio = 0.0;
     o.probe_max_wall_lines = lines;
-    Explorer explorer(o);
-    for (int i = 0; i < 30 * 90 && explorer.Turns() == 0; ++i) world.Apply(explorer.Step(world.Perceive()));
-    ASSERT_EQ(explorer.Turns(), 1);
-    const TopoMap& map = explorer.Map();
-    const int j = map.NodeNear({explorer.MapPose().x, explorer.MapPose().y});
-    ASSERT_GE(j, 0);
-    const TopoNode& node = map.Nodes()[static_cast<std::size_t>(j)];
-    EXPECT_EQ(node.branch[3], lines > 0.0 ? Branch::kWall : Branch::kOpen);  // south: the unseen brick wall
-    EXPECT_EQ(node.branch[1], Branch::kOpen);                               // north: the branch
+    const auto [south, north] = UnseenWallLCorner(o, true);
+    EXPECT_EQ(south, lines > 0.0 ? Branch::kWall : Branch::kOpen);
+    EXPECT_EQ(north, Branch::kOpen);
   }
 }
 
