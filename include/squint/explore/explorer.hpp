@@ -379,9 +379,9 @@ struct ExplorerOptions {
   // The camera sees nothing within 0.6 m, nor beside the robot: a box or a column that left the
   // view in the near blind zone while the robot turned was met with the disc's flank. 0: off, the
   // default. It does not catch those flank contacts: on the three obstacle-course starts it seemed
-  // to fix (session 24) it fires only right after the start-up scan, and after 0.5 m of travel
-  // (guard_unknown_after_m) the runs are the defaults' (the cells beside the path were marked
-  // known free); the other route taken from a later start missed the obstacles. A robot started
+  // to fix (session 24) it never fires after the first 0.5 m of travel (with guard_unknown_after_m
+  // 0.5 the runs are the defaults': the cells beside the path were marked known free); its stops
+  // at the start delayed the set-off, and the route that followed missed the obstacles. A robot started
   // near a wall, whose blind zone is never seen free, stands still: the seeded starts' coverage
   // fell from 0.776 to 0.739 on seeds 1-8 (`squint explore --guard-unknown`; sessions 24 and 25).
   double guard_unknown_step_m = 0.0;
