@@ -114,6 +114,10 @@ struct ExplorerVariants {
   double sonar_end_blocks_m = 1.0;
   // Creep toward a place the map holds as a dead end from this far (ExplorerOptions::known_end_slow_m; 0: off).
   double known_end_slow_m = 0.0;
+  // ...only while the fused distance reads the end this much farther than the map (ExplorerOptions::known_end_disagree_m; 0: always).
+  double known_end_disagree_m = 0.0;
+  // A far column whose bottom differs this much from the floor is blocked near (explore::VisualSonarOptions::far_floor_max_diff; 0: off).
+  double far_floor_diff = 0.0;
   // A view smooth all over does not become the floor's texture reference (ExplorerOptions::blind_texture_keep_ref;
   // on since session 20).
   bool blind_texture_keep_ref = true;
@@ -170,6 +174,8 @@ struct ExplorerVariants {
     ro.explorer.probe_max_wall_lines = probe_max_wall_lines;
     ro.explorer.sonar_end_blocks_m = sonar_end_blocks_m;
     ro.explorer.known_end_slow_m = known_end_slow_m;
+    ro.explorer.known_end_disagree_m = known_end_disagree_m;
+    ro.sonar.far_floor_max_diff = far_floor_diff;
     ro.explorer.blind_texture_keep_ref = blind_texture_keep_ref;
     ro.explorer.blind_texture_keep_peak = blind_texture_keep_peak;
     ro.explorer.memory.blocked_hold_s = blocked_hold_s;
@@ -269,6 +275,14 @@ struct ExplorerVariants {
                     text("Following toward a place the map holds as a dead end, creep (a quarter of cruise speed) from this far (metres) before where the robot stopped there last, a place whose branches ahead and to both sides are walls: a mirror end wall shows the corridor behind and the visual sonar reads floor running on (0: off, the default: it cost corridor-2's seeded starts coverage; docs/explore.md, session 20)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 20.0));
+    cmd->add_option("--known-end-disagree", known_end_disagree_m,
+                    text("With --known-end-slow: creep only while the fused distance to the corridor's end exceeds the map's distance to that dead end by more than this (metres): a mirror shows the corridor running on, a plain end wall reads where the map holds it (0: creep whatever the fused distance says)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 20.0));
+    cmd->add_option("--far-floor-diff", far_floor_diff,
+                    text("A visual-sonar column whose only step is at the horizon (floor all the way) but whose bottom rows differ from the frame's floor by more than this (grey levels) is blocked near: something taller than the camera stands within the blind range and fills it up to the horizon (0: off)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 255.0));
     cmd->add_flag("--blind-texture-keep-ref,!--no-blind-texture-keep-ref", blind_texture_keep_ref,
                   text("With --blind-texture: a view whose bottom is smooth all over by the floor's recent texture (a plain door or wall filling the view up close, no floor below it) does not become the floor's texture reference, so its columns stay blocked near (on by default since session 20; docs/explore.md, session 20)"));
     cmd->add_flag("--blind-texture-keep-peak,!--no-blind-texture-keep-peak", blind_texture_keep_peak,

@@ -93,6 +93,7 @@ std::string ExplorerOptions::Validate() const {
   if (blind_texture_min_floor_columns < 1) return "blind_texture_min_floor_columns must be >= 1";
   if (!NonNegative(sonar_end_blocks_m)) return "sonar_end_blocks_m must be >= 0";
   if (!(known_end_slow_m >= 0.0 && known_end_slow_m <= 20.0)) return "known_end_slow_m must be in [0, 20]";
+  if (!(known_end_disagree_m >= 0.0 && known_end_disagree_m <= 20.0)) return "known_end_disagree_m must be in [0, 20]";
   if (!NonNegative(avoid_gain)) return "avoid_gain must be >= 0";
   if (!(avoid_speed_fraction > 0.0 && avoid_speed_fraction <= 1.0)) return "avoid_speed_fraction must be in (0, 1]";
   if (!Positive(avoid_hold_s)) return "avoid_hold_s must be positive";
@@ -1135,7 +1136,9 @@ bool Explorer::NearKnownEnd() const {
     const Eigen::Vector2d rel = n.position_m - here;
     const double ahead = rel.dot(along);
     const double across = std::abs(rel.x() * along.y() - rel.y() * along.x());
-    if (ahead > -1.0 && ahead < opt_.known_end_slow_m && across < opt_.map.merge_radius_m) return true;
+    if (!(ahead > -1.0 && ahead < opt_.known_end_slow_m && across < opt_.map.merge_radius_m)) continue;
+    if (opt_.known_end_disagree_m > 0.0 && !(dist_end_m_ > std::max(0.0, ahead) + opt_.known_end_disagree_m)) continue;
+    return true;
   }
   return false;
 }

@@ -29,6 +29,7 @@ std::string VisualSonarOptions::Validate() const {
   if (floor_edge_min_rows < 1 || floor_edge_min_rows > 16) return "floor_edge_min_rows must be in [1, 16]";
   if (min_reference_columns < 1 || min_reference_columns > 640) return "min_reference_columns must be in [1, 640]";
   if (!(gradient_unknown_levels >= 0.0) || !std::isfinite(gradient_unknown_levels)) return "gradient_unknown_levels must be >= 0";
+  if (!(far_floor_max_diff >= 0.0) || !std::isfinite(far_floor_max_diff)) return "far_floor_max_diff must be >= 0";
   if (wall_line_band_columns < 2 || wall_line_band_columns > 640) return "wall_line_band_columns must be in [2, 640]";
   if (wall_line_detrend_rows < 1 || wall_line_detrend_rows > 16) return "wall_line_detrend_rows must be in [1, 16]";
   if (!(wall_line_min_std >= 0.0) || !std::isfinite(wall_line_min_std)) return "wall_line_min_std must be >= 0";
@@ -237,6 +238,19 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
   if (n_ref >= std::max(3, options_.min_reference_columns)) {
     std::nth_element(ref_window_.begin(), ref_window_.begin() + n_ref / 2, ref_window_.begin() + n_ref);
     floor_ref = ref_window_[static_cast<std::size_t>(n_ref / 2)];
+  }
+  // A far step over a bottom unlike the floor: something standing near fills the column up to
+  // the horizon (far_floor_max_diff).
+  if (floor_ref >= 0.0f && options_.far_floor_max_diff > 0.0) {
+    const float limit = static_cast<float>(options_.far_floor_max_diff);
+    for (int u = 0; u < w; ++u) {
+      const std::size_t i = static_cast<std::size_t>(u);
+      if (rows_[i] >= 0 && raw_[i] >= options_.max_range_m && std::abs(bottom_[i] - floor_ref) > limit) {
+        rows_[i] = -1;
+        raw_[i] = 0.0;
+        edge_[i] = 0.0;
+      }
+    }
   }
   // Without a reference, a column whose grey changes smoothly by more than gradient_unknown_levels
   // from its bottom rows to the horizon shows the floor's perspective shading (a corridor whose

@@ -412,6 +412,32 @@ TEST(ExploreCli, TheRobotCreepsTowardAPlaceTheMapHoldsADeadEnd) {
   const nlohmann::json on = summary("on", " --known-end-slow 3");
   EXPECT_EQ(on["collisions"].get<long>(), 0);
   EXPECT_GE(on["ends_detected"].get<long>(), 3);  // both ends, and the mirror again
+  // Creeping only where the fused distance reads the end more than 1.5 m beyond the map's: the
+  // mirror shows the corridor behind, so the robot still creeps to it.
+  const nlohmann::json disagree = summary("disagree", " --known-end-slow 3 --known-end-disagree 1.5");
+  EXPECT_EQ(disagree["collisions"].get<long>(), 0);
+  EXPECT_GE(disagree["ends_detected"].get<long>(), 3);
+  std::filesystem::remove_all(dir);
+}
+
+// The obstacle course, seeded start 5 of seed 59: after a probe the robot faces west with the dark
+// bin (0.45 m tall, the camera 0.43 m high) 0.5 m ahead, inside the blind range. The bin fills its
+// sonar columns from the bottom row to its top edge just above the horizon, so their only step was
+// that edge, at the horizon: floor running 6 m on. Those "far" columns cleared what the memory held
+// of the bin, and the robot met it with its flank at 38.8 s. With --far-floor-diff 40 a far column
+// whose bottom rows are unlike the frame's floor is blocked near: the probe finds no way west, the
+// robot scans instead and meets nothing.
+TEST(ExploreCli, ADarkBinFillingTheViewToTheHorizonIsNoFloorRunningOn) {
+  const auto dir = TempDir("far-floor-diff");
+  auto summary = [&](const std::string& name, const std::string& flag) {
+    return ExploreSummary(dir / name, "--world obstacle-course --seed 59 --eval-start 5 --minutes 0.7" + flag);
+  };
+  const nlohmann::json off = summary("off", " --far-floor-diff 0");
+  EXPECT_GT(off["collisions"].get<long>(), 0);
+  EXPECT_EQ(off["first_hit"].get<std::string>(), "obstacles[4] (bin)");
+  const nlohmann::json on = summary("on", " --far-floor-diff 40");
+  EXPECT_EQ(on["collisions"].get<long>(), 0);
+  EXPECT_EQ(on["first_hit"].get<std::string>(), "");
   std::filesystem::remove_all(dir);
 }
 

@@ -38,6 +38,7 @@ struct ToyCorridor {
   bool lights = false;  // every frame carries the lights' line's heading (the truth)
   bool light_offsets = false;  // and the robot's offset from it (a centre row: the lateral offset)
   bool wall_lines = false;     // every third frame carries the walls' lines' heading (the truth)
+  bool mirror = false;         // the end wall at x = 10 is a mirror: looking +x the fused distance reads 10 m more
 
   Pose2 pose;        // true pose
   Pose2 odom;        // odometry
@@ -56,7 +57,7 @@ struct ToyCorridor {
     double dist = 30.0;
     double lateral = 0.0;
     switch (dir) {
-      case 0: open = !wall_fills_view; dist = 10.0 - pose.x; lateral = pose.y; break;
+      case 0: open = !wall_fills_view; dist = 10.0 - pose.x + (mirror ? 10.0 : 0.0); lateral = pose.y; break;
       case 1: open = at_end && left_open && frame >= left_hidden_until_frame; lateral = 10.0 - pose.x - 1.0; break;
       case 2: open = pose.x > 5.0; dist = pose.x; lateral = -pose.y; break;  // the start end is near
       case 3: open = at_end && right_open; lateral = pose.x - 9.0; break;
@@ -168,6 +169,48 @@ TEST(Explorer, DeadEndMisjudgedOnceIsLookedAtAgainOnTheNextArrival) {
     EXPECT_EQ(far_end_turns[0], 180) << reprobes;  // the misjudged dead end
     EXPECT_EQ(far_end_turns[1], reprobes > 0 ? 90 : 180) << reprobes;
   }
+}
+
+// The toy's dead end at x = 10 met twice: on the second approach the map holds it a dead end.
+// Returns the fastest forward command between x = 6.5 and 8 on that approach (the node lies at
+// the first stop, about x = 9; the creep starts known_end_slow_m before it).
+double SecondApproachTopSpeed(double known_end_slow_m, double known_end_disagree_m, bool mirror) {
+  ToyCorridor world;
+  world.left_open = false;
+  world.right_open = false;
+  ExplorerOptions o;
+  o.known_end_slow_m = known_end_slow_m;
+  o.known_end_disagree_m = known_end_disagree_m;
+  Explorer explorer(o);
+  RunUntilTurns(world, explorer, 2);  // the dead end, then the wall behind the start
+  EXPECT_EQ(explorer.Turns(), 2);
+  EXPECT_EQ(explorer.EndsDetected(), 2);
+  EXPECT_LT(world.pose.x, 5.5);  // the start's end reads by entropy from x = 5 (ToyCorridor)
+  world.mirror = mirror;  // the end now shows the corridor behind the robot
+  double top = 0.0;
+  for (int i = 0; i < 30 * 60 && world.pose.x < 8.0; ++i) {
+    const Command c = explorer.Step(world.Perceive());
+    if (world.pose.x > 6.5) top = std::max(top, c.v_mps);
+    world.Apply(c);
+  }
+  EXPECT_GE(world.pose.x, 8.0);
+  EXPECT_EQ(explorer.EndsDetected(), 2);  // no end read yet on this approach
+  return top;
+}
+
+// known_end_slow_m: toward a place the map holds a dead end the robot creeps (a quarter of the
+// cruise speed). With known_end_disagree_m it creeps only where the fused distance reads the end
+// farther than the map holds it by more than that: a mirror, not a plain end wall.
+TEST(Explorer, CreepsTowardAKnownDeadEndOnlyWhereTheFusedDistanceDisagreesWithTheMap) {
+  const ExplorerOptions d;
+  const double cruise = d.cruise_speed_mps;
+  const double creep = d.cruise_speed_mps * d.min_speed_fraction;
+  EXPECT_GT(SecondApproachTopSpeed(0.0, 0.0, false), 0.95 * cruise);  // off: full speed
+  EXPECT_GT(SecondApproachTopSpeed(0.0, 0.0, true), 0.95 * cruise);
+  EXPECT_NEAR(SecondApproachTopSpeed(3.0, 0.0, false), creep, 1e-9);  // creeps whatever it sees
+  EXPECT_NEAR(SecondApproachTopSpeed(3.0, 0.0, true), creep, 1e-9);
+  EXPECT_GT(SecondApproachTopSpeed(3.0, 1.5, false), 0.95 * cruise);  // the end wall reads where the map holds it
+  EXPECT_NEAR(SecondApproachTopSpeed(3.0, 1.5, true), creep, 1e-9);   // the mirror reads 10 m farther
 }
 
 TEST(Explorer, TurnsRightWhenOnlyRightIsOpen) {
@@ -1407,6 +1450,11 @@ TEST(Explorer, OptionsValidateNamesTheField) {
   o = {};
   o.shift_stall_s = -0.1;
   EXPECT_NE(o.Validate().find("shift_stall_s"), std::string::npos);
+  o = {};
+  o.known_end_disagree_m = -0.5;
+  EXPECT_NE(o.Validate().find("known_end_disagree_m"), std::string::npos);
+  o.known_end_disagree_m = std::nan("");
+  EXPECT_NE(o.Validate().find("known_end_disagree_m"), std::string::npos);
 }
 
 }  // namespace

@@ -345,6 +345,43 @@ TEST(VisualSonar, StepsAtTheHorizonAreNoFloorReference) {
   for (int u = 24; u < 60; ++u) EXPECT_EQ(out2[static_cast<std::size_t>(u)].kind, SonarReturn::kBoundary) << "column " << u;
 }
 
+// Something dark standing within the blind range, taller than the camera: it fills its columns
+// from the bottom row up to its top edge just above the horizon, so the only step those columns
+// find is that edge, at the horizon: floor "all the way" (far). far_floor_max_diff makes a far
+// column whose bottom rows are unlike the frame's floor (here 65 against about 181) blocked near.
+// The floor to the horizon beside it stays far; a far column over floor-grey bottom rows (a floor
+// of that grey to the horizon) stays far; the rule off reads the dark thing far, as before.
+TEST(VisualSonar, AFarStepOverABottomUnlikeTheFloorIsSomethingStandingNear) {
+  const CameraModel cam = SonarCamera();
+  const int horizon = static_cast<int>(std::floor(cam.HorizonRow()));
+  std::vector<int> rows(64, 30);                                   // a wall's base in range on the left...
+  for (int u = 32; u < 64; ++u) rows[static_cast<std::size_t>(u)] = horizon - 1;  // ...floor to the horizon on the right
+  Image im = FloorWall(rows);
+  for (int u = 40; u < 52; ++u)
+    for (int v = horizon; v < 48; ++v) im.At(u, v) = 65;  // the dark thing, its top edge where the far floor ends
+  VisualSonarOptions o;
+  VisualSonar off(cam, o);
+  const auto& before = off.Process(im.View());
+  for (int u = 42; u < 50; ++u) EXPECT_EQ(before[static_cast<std::size_t>(u)].kind, SonarReturn::kFar) << "column " << u;
+  o.far_floor_max_diff = 40.0;
+  VisualSonar on(cam, o);
+  const auto& after = on.Process(im.View());
+  for (int u = 42; u < 50; ++u) {
+    EXPECT_EQ(after[static_cast<std::size_t>(u)].kind, SonarReturn::kBlockedNear) << "column " << u;
+    EXPECT_EQ(after[static_cast<std::size_t>(u)].range_m, 0.0) << "column " << u;
+  }
+  for (int u = 56; u < 64; ++u) EXPECT_EQ(after[static_cast<std::size_t>(u)].kind, SonarReturn::kFar) << "column " << u;
+  for (int u = 4; u < 28; ++u) EXPECT_EQ(after[static_cast<std::size_t>(u)].kind, SonarReturn::kBoundary) << "column " << u;
+  // The same thing in the floor's grey (within the limit): far, as the floor it resembles.
+  Image grey = im;
+  for (int u = 40; u < 52; ++u)
+    for (int v = horizon; v < 48; ++v) grey.At(u, v) = 181 - 30;
+  const auto& same = on.Process(grey.View());
+  for (int u = 42; u < 50; ++u) EXPECT_EQ(same[static_cast<std::size_t>(u)].kind, SonarReturn::kFar) << "column " << u;
+  o.far_floor_max_diff = -1.0;
+  EXPECT_NE(o.Validate().find("far_floor_max_diff"), std::string::npos);
+}
+
 // A floor without contrast to the walls, seen down a corridor: no step anywhere, but the grey
 // changes smoothly by 60 levels from the bottom row to the horizon (perspective shading). That is
 // floor, not a wall filling the view: unknown. A view of one surface (within 10 levels from the

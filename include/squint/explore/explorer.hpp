@@ -312,6 +312,10 @@ struct ExplorerOptions {
   // robot met corridor-5's mirror at full speed (start 2 of seed 6). 0 turns it off
   // (`squint explore --known-end-slow M`).
   double known_end_slow_m = 0.0;
+  // With known_end_slow_m: creep only while the fused distance to the end exceeds the map's
+  // distance to that dead end by more than this (metres): the mirror shows the corridor running
+  // on, a plain end wall is read where the map holds it. 0: creep whatever the fused distance says.
+  double known_end_disagree_m = 0.0;
   // In a blind view read as unknown (blind_view_entropy_ratio), a blocked-near sonar column stays
   // blocked near where the walls' lines' frame shows its bottom smooth: that column's mean bottom
   // texture (Percept::wall_bottom_texture) below this fraction of the floor's (the frame's 90th

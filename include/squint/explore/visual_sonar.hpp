@@ -40,6 +40,13 @@ struct VisualSonarOptions {
   // carpet) and not one surface filling the view (a wall within the blind range looks nearly the
   // same from its foot to camera height). 0 turns it off.
   double gradient_unknown_levels = 30.0;
+  // A column whose step lies at the horizon (far: floor all the way) must show the floor at its
+  // bottom: where its bottom rows differ from this frame's floor reference by more than this
+  // (grey levels) the column is blocked near. Something standing within the blind range and
+  // taller than the camera fills the column from the bottom row to its top edge above the
+  // horizon, so the only step is that top edge, at the horizon (the obstacle course's dark bin
+  // 0.5 m ahead read as floor running 6 m on). 0 turns it off.
+  double far_floor_max_diff = 0.0;
   // Floor-material edges (tiles to carpet) are not walls. Above a wall's base a vertical face
   // rises through the horizon; above a floor edge lies more floor, up to the next boundary. A
   // step followed, at least floor_edge_min_rows higher, by a second step below the horizon whose
