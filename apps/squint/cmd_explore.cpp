@@ -116,8 +116,8 @@ struct ExplorerVariants {
   double known_end_slow_m = 0.0;
   // ...only while the fused distance reads the end this much farther than the map (ExplorerOptions::known_end_disagree_m; 0: always).
   double known_end_disagree_m = 0.0;
-  // A far column whose bottom differs this much from the floor is blocked near (explore::VisualSonarOptions::far_floor_max_diff; 0: off).
-  double far_floor_diff = 0.0;
+  // A far column whose bottom differs this much from the floor is blocked near (explore::VisualSonarOptions::far_floor_max_diff; 0: off; 40 since session 26).
+  double far_floor_diff = 40.0;
   // A view smooth all over does not become the floor's texture reference (ExplorerOptions::blind_texture_keep_ref;
   // on since session 20).
   bool blind_texture_keep_ref = true;
@@ -280,7 +280,7 @@ struct ExplorerVariants {
         ->capture_default_str()
         ->check(CLI::Range(0.0, 20.0));
     cmd->add_option("--far-floor-diff", far_floor_diff,
-                    text("A visual-sonar column whose only step is at the horizon (floor all the way) but whose bottom rows differ from the frame's floor by more than this (grey levels) is blocked near: something taller than the camera stands within the blind range and fills it up to the horizon (0: off)"))
+                    text("A visual-sonar column whose only step is at the horizon (floor all the way) but whose bottom rows differ from the frame's floor by more than this (grey levels) is blocked near: something taller than the camera stands within the blind range and fills it up to the horizon (0: off; 40 by default since session 26; docs/explore.md, session 26)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 255.0));
     cmd->add_flag("--blind-texture-keep-ref,!--no-blind-texture-keep-ref", blind_texture_keep_ref,

@@ -360,6 +360,8 @@ TEST(VisualSonar, AFarStepOverABottomUnlikeTheFloorIsSomethingStandingNear) {
   for (int u = 40; u < 52; ++u)
     for (int v = horizon; v < 48; ++v) im.At(u, v) = 65;  // the dark thing, its top edge where the far floor ends
   VisualSonarOptions o;
+  EXPECT_EQ(o.far_floor_max_diff, 40.0);  // the default
+  o.far_floor_max_diff = 0.0;
   VisualSonar off(cam, o);
   const auto& before = off.Process(im.View());
   for (int u = 42; u < 50; ++u) EXPECT_EQ(before[static_cast<std::size_t>(u)].kind, SonarReturn::kFar) << "column " << u;

@@ -45,8 +45,8 @@ struct VisualSonarOptions {
   // (grey levels) the column is blocked near. Something standing within the blind range and
   // taller than the camera fills the column from the bottom row to its top edge above the
   // horizon, so the only step is that top edge, at the horizon (the obstacle course's dark bin
-  // 0.5 m ahead read as floor running 6 m on). 0 turns it off.
-  double far_floor_max_diff = 0.0;
+  // 0.5 m ahead read as floor running 6 m on). 0 turns it off; 40 by default since session 26.
+  double far_floor_max_diff = 40.0;
   // Floor-material edges (tiles to carpet) are not walls. Above a wall's base a vertical face
   // rises through the horizon; above a floor edge lies more floor, up to the next boundary. A
   // step followed, at least floor_edge_min_rows higher, by a second step below the horizon whose
