@@ -239,32 +239,28 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
     std::nth_element(ref_window_.begin(), ref_window_.begin() + n_ref / 2, ref_window_.begin() + n_ref);
     floor_ref = ref_window_[static_cast<std::size_t>(n_ref / 2)];
   }
-  // A far step over a bottom unlike the floor: something standing near fills the column up to
-  // the horizon (far_floor_max_diff).
-  if (floor_ref >= 0.0f && options_.far_floor_max_diff > 0.0) {
-    const float limit = static_cast<float>(options_.far_floor_max_diff);
-    for (int u = 0; u < w; ++u) {
-      const std::size_t i = static_cast<std::size_t>(u);
-      if (rows_[i] >= 0 && raw_[i] >= options_.max_range_m && std::abs(bottom_[i] - floor_ref) > limit) {
-        rows_[i] = -1;
-        raw_[i] = 0.0;
-        edge_[i] = 0.0;
-      }
-    }
-  }
   // Without a reference, a column whose grey changes smoothly by more than gradient_unknown_levels
   // from its bottom rows to the horizon shows the floor's perspective shading (a corridor whose
   // far boundaries have no contrast), not one surface filling the view: unknown.
+  // A far step over a bottom unlike the floor (far_floor_max_diff) is no step: something standing
+  // near fills the column up to the horizon, and the column is judged as the stepless ones.
   const float gradient = static_cast<float>(options_.gradient_unknown_levels);
+  const float far_limit = static_cast<float>(options_.far_floor_max_diff);
   for (int u = 0; u < w; ++u) {
-    unknown_[static_cast<std::size_t>(u)] = 0;
-    if (rows_[static_cast<std::size_t>(u)] >= 0) continue;
-    const bool unlike_floor = floor_ref < 0.0f
-                                  ? !(gradient > 0.0f && std::abs(top_[static_cast<std::size_t>(u)] - bottom_[static_cast<std::size_t>(u)]) > gradient)
-                                  : std::abs(bottom_[static_cast<std::size_t>(u)] - floor_ref) > thr;
+    const std::size_t i = static_cast<std::size_t>(u);
+    unknown_[i] = 0;
+    if (rows_[i] >= 0 && floor_ref >= 0.0f && far_limit > 0.0f && raw_[i] >= options_.max_range_m &&
+        std::abs(bottom_[i] - floor_ref) > far_limit) {
+      rows_[i] = -1;
+      raw_[i] = 0.0;
+      edge_[i] = 0.0;
+    }
+    if (rows_[i] >= 0) continue;
+    const bool unlike_floor = floor_ref < 0.0f ? !(gradient > 0.0f && std::abs(top_[i] - bottom_[i]) > gradient)
+                                               : std::abs(bottom_[i] - floor_ref) > thr;
     if (!unlike_floor) {
-      unknown_[static_cast<std::size_t>(u)] = 1;
-      raw_[static_cast<std::size_t>(u)] = options_.max_range_m;
+      unknown_[i] = 1;
+      raw_[i] = options_.max_range_m;
     }
   }
   // Median across neighbouring columns: anything standing that matters spans several columns,
