@@ -130,6 +130,10 @@ struct ExplorerVariants {
   // ...their columns only while the latest scan still looks along them
   // (ObstacleMemoryOptions::blocked_hold_in_view; on since session 23).
   bool blocked_hold_in_view = true;
+  // A blocked-near column's thing is assumed as near as this for its sector (ObstacleMemoryOptions::blocked_min_range_m; 0.45 since session 27).
+  double blocked_min_range_m = 0.45;
+  // Soft points along a blocked-near column's ray from this range on (ObstacleMemoryOptions::blind_points_from_m; 0: off; 0.6).
+  double blind_points_from_m = 0.6;
   // A side wall abeam needs another point within this distance (ExplorerOptions::side_wall_cluster_m; 0: nearest point).
   double side_wall_cluster_m = 0.15;
   // The floor-edge band cleared only across the opening's span (ExplorerOptions::floor_edge_band_mouth).
@@ -180,6 +184,8 @@ struct ExplorerVariants {
     ro.explorer.blind_texture_keep_peak = blind_texture_keep_peak;
     ro.explorer.memory.blocked_hold_s = blocked_hold_s;
     ro.explorer.memory.blocked_hold_in_view = blocked_hold_in_view;
+    ro.explorer.memory.blocked_min_range_m = blocked_min_range_m;
+    ro.explorer.memory.blind_points_from_m = blind_points_from_m;
     ro.explorer.side_wall_cluster_m = side_wall_cluster_m;
     ro.explorer.floor_edge_band_mouth = floor_edge_band_mouth;
     ro.explorer.guard_unknown_step_m = guard_unknown_step_m;
@@ -293,6 +299,14 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 10.0));
     cmd->add_flag("--blocked-hold-in-view,!--no-blocked-hold-in-view", blocked_hold_in_view,
                   text("With --blocked-hold: a held blocked-near column counts only while the latest frame still looks along it: a robot turning away from a wall it started close to was held by the wall's columns after they had left the view (on by default since session 23; off in session 22, when with it the main job met a wall after a false opening that --side-wall-cluster now removes; docs/explore.md, sessions 22 and 23)"));
+    cmd->add_option("--blocked-min-range", blocked_min_range_m,
+                    text("A visual-sonar column blocked near (something inside the camera's blind range, at an unknown distance) stops travel along the directions whose swept band would meet a thing this far along its ray (metres; 0.45 by default since session 27: ±51° for a 0.25 m disc with its 0.1 m margin; 0.6 before, ±36°, let the flank of the disc meet a thing 0.36 m away; docs/explore.md, session 27)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.05, 5.0));
+    cmd->add_option("--blind-points-from", blind_points_from_m,
+                    text("A visual-sonar column blocked near is also remembered for 5 s as soft points along its ray from this range (metres) out to the blind range, where the floor was not seen (0: off; 0.6 by default)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 5.0));
     cmd->add_option("--side-wall-cluster", side_wall_cluster_m,
                     text("A side wall seen abeam (the side branches' wall runs and lines) is the nearest remembered point with another within this many metres of it, not one isolated point: one point 0.25 m inside a wall moved that wall's line inward, and the robot stopped for a false opening 2 m before an L corner and turned there (0: the nearest point; 0.15 by default since session 23; docs/explore.md, session 23)"))
         ->capture_default_str()

@@ -632,6 +632,49 @@ TEST(ObstacleMemory, BlockedNearStopsForwardTravelUnlessTheFloorThereWasSeen) {
   EXPECT_EQ(seen.FreeTravel(Pose2{}, 0.0, 0.35, 5.0, false, /*seen_free_exempts=*/false), 0.0);
 }
 
+// One column blocked near, straight ahead: the thing may stand anywhere from the disc to the blind
+// range, and the directions it closes are those whose swept band (radius r) meets its ray at
+// blocked_min_range_m, a sector of half-width asin(r / blocked_min_range_m): 35.7 degrees at 0.6 m
+// and 51.1 degrees at 0.45 m for r = 0.35. A thing 0.36 m away (the obstacle course's column of
+// seed 4's start 1) is met by the disc along any heading within 49 degrees of it.
+TEST(ObstacleMemory, BlockedSectorWidensAsTheThingMayStandNearer) {
+  const CameraModel cam = SonarCamera();
+  std::vector<SonarColumn> scan = WallScan(cam, 2.0);
+  std::size_t ahead = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i)
+    if (std::abs(scan[i].bearing_rad) < std::abs(scan[ahead].bearing_rad)) ahead = i;
+  ASSERT_LT(std::abs(scan[ahead].bearing_rad), 0.02);
+  scan[ahead].kind = SonarReturn::kBlockedNear;
+  scan[ahead].range_m = 0.0;
+  const double r = 0.35;
+  const double deg = kPi / 180.0;
+  auto free_along = [&](double min_range_m, double yaw) {
+    ObstacleMemoryOptions opt;
+    opt.blocked_min_range_m = min_range_m;
+    opt.blind_points_from_m = 0.0;  // the sector alone
+    ObstacleMemory mem(opt);
+    mem.Update(scan, Pose2{}, 0.0, 0.6);
+    mem.Gather(Pose2{}, 0.0);
+    return mem.FreeTravel(Pose2{}, yaw, r, 5.0);
+  };
+  const double b = scan[ahead].bearing_rad;
+  for (const double side : {1.0, -1.0}) {
+    // 0.6 m: closed within 35.7 degrees of the column, open beyond.
+    EXPECT_EQ(free_along(0.6, b + side * 34.0 * deg), 0.0);
+    EXPECT_EQ(free_along(0.6, b + side * 40.0 * deg), 5.0);
+    // 0.45 m: 40 degrees off is closed now, 53 degrees open.
+    EXPECT_EQ(free_along(0.45, b + side * 40.0 * deg), 0.0);
+    EXPECT_EQ(free_along(0.45, b + side * 50.0 * deg), 0.0);
+    EXPECT_EQ(free_along(0.45, b + side * 53.0 * deg), 5.0);
+  }
+  // Nearer than the disc's radius: every heading toward the thing's half-plane is closed.
+  EXPECT_EQ(free_along(0.3, b + 89.0 * deg), 0.0);
+  EXPECT_EQ(free_along(0.3, b + 91.0 * deg), 5.0);
+  ObstacleMemoryOptions bad;
+  bad.blocked_min_range_m = 0.0;
+  EXPECT_FALSE(bad.Validate().empty());
+}
+
 // A chair leg flickers: blocked near in one scan (columns a few degrees right of the heading), the
 // next scan reads floor beyond it in every column. With blocked_hold_s the first scan's blockage
 // still stops travel along those columns (from where it was taken) until the hold has passed; a

@@ -24,8 +24,13 @@ struct ObstacleMemoryOptions {
   // of it (an obstacle standing there would have hidden the bottom rows).
   double clear_blind_min_range_m = 1.6;
   // A blocked-near column may hide something this close (metres): the directions it blocks
-  // are those whose swept band meets its ray at this range.
-  double blocked_min_range_m = 0.6;
+  // are those whose swept band meets its ray at this range, a sector of half-width
+  // asin(radius / blocked_min_range_m) about the column (radius: the disc with its margin).
+  // 0.6 (±36° for 0.35 m) until session 27: a thing nearer than that, inside the blind range,
+  // was met with the disc's flank along the sector's edge (the obstacle course's column 0.36 m
+  // away, start 1 of seed 4; corridor-9's convex corner 0.38 m away, start 2 of seed 17).
+  // 0.45 (±51°) since session 27 (`squint explore --blocked-min-range`; docs/explore.md).
+  double blocked_min_range_m = 0.45;
   // A blocked-near column is also remembered along its ray, from this range (metres) out to the
   // blind range, as "soft" points: something stands somewhere there. Cells whose floor was seen
   // (within keep_seconds) are skipped, and later floor seen along a ray removes them like any
