@@ -118,6 +118,8 @@ struct ExplorerVariants {
   double known_end_disagree_m = 0.0;
   // A far column whose bottom differs this much from the floor is blocked near (explore::VisualSonarOptions::far_floor_max_diff; 0: off; 40 since session 26).
   double far_floor_diff = 40.0;
+  // The floor reference from boundary columns first (explore::VisualSonarOptions::floor_ref_boundaries; off).
+  bool floor_ref_boundaries = false;
   // A view smooth all over does not become the floor's texture reference (ExplorerOptions::blind_texture_keep_ref;
   // on since session 20).
   bool blind_texture_keep_ref = true;
@@ -130,8 +132,10 @@ struct ExplorerVariants {
   // ...their columns only while the latest scan still looks along them
   // (ObstacleMemoryOptions::blocked_hold_in_view; on since session 23).
   bool blocked_hold_in_view = true;
-  // A blocked-near column's thing is assumed as near as this for its sector (ObstacleMemoryOptions::blocked_min_range_m; 0.45 since session 27).
-  double blocked_min_range_m = 0.45;
+  // A blocked-near column's thing is assumed as near as this for its sector (ObstacleMemoryOptions::blocked_min_range_m; 0.6).
+  double blocked_min_range_m = 0.6;
+  // ...and this far once following has come 1.6 m along a corridor (ExplorerOptions::settled_blocked_min_range_m; 0: off, the default).
+  double settled_blocked_min_range_m = 0.0;
   // Soft points along a blocked-near column's ray from this range on (ObstacleMemoryOptions::blind_points_from_m; 0: off; 0.6).
   double blind_points_from_m = 0.6;
   // A side wall abeam needs another point within this distance (ExplorerOptions::side_wall_cluster_m; 0: nearest point).
@@ -180,11 +184,13 @@ struct ExplorerVariants {
     ro.explorer.known_end_slow_m = known_end_slow_m;
     ro.explorer.known_end_disagree_m = known_end_disagree_m;
     ro.sonar.far_floor_max_diff = far_floor_diff;
+    ro.sonar.floor_ref_boundaries = floor_ref_boundaries;
     ro.explorer.blind_texture_keep_ref = blind_texture_keep_ref;
     ro.explorer.blind_texture_keep_peak = blind_texture_keep_peak;
     ro.explorer.memory.blocked_hold_s = blocked_hold_s;
     ro.explorer.memory.blocked_hold_in_view = blocked_hold_in_view;
     ro.explorer.memory.blocked_min_range_m = blocked_min_range_m;
+    ro.explorer.settled_blocked_min_range_m = settled_blocked_min_range_m;
     ro.explorer.memory.blind_points_from_m = blind_points_from_m;
     ro.explorer.side_wall_cluster_m = side_wall_cluster_m;
     ro.explorer.floor_edge_band_mouth = floor_edge_band_mouth;
@@ -289,6 +295,8 @@ struct ExplorerVariants {
                     text("A visual-sonar column whose only step is at the horizon (floor all the way) but whose bottom rows differ from the frame's floor by more than this (grey levels) is blocked near: something taller than the camera stands within the blind range and fills it up to the horizon (0: off; 40 by default since session 26; docs/explore.md, session 26)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 255.0));
+    cmd->add_flag("--floor-ref-boundaries,!--no-floor-ref-boundaries", floor_ref_boundaries,
+                  text("The visual sonar's floor reference (the median bottom of its columns with a clear step, against which --far-floor-diff and the stepless columns are judged) comes from the columns whose step is a wall's or an obstacle's base in range, far columns joining only when those are too few: a box filling most of the view up close read far in every column and its own bottom became the reference (off by default; docs/explore.md, session 27)"));
     cmd->add_flag("--blind-texture-keep-ref,!--no-blind-texture-keep-ref", blind_texture_keep_ref,
                   text("With --blind-texture: a view whose bottom is smooth all over by the floor's recent texture (a plain door or wall filling the view up close, no floor below it) does not become the floor's texture reference, so its columns stay blocked near (on by default since session 20; docs/explore.md, session 20)"));
     cmd->add_flag("--blind-texture-keep-peak,!--no-blind-texture-keep-peak", blind_texture_keep_peak,
@@ -300,9 +308,13 @@ struct ExplorerVariants {
     cmd->add_flag("--blocked-hold-in-view,!--no-blocked-hold-in-view", blocked_hold_in_view,
                   text("With --blocked-hold: a held blocked-near column counts only while the latest frame still looks along it: a robot turning away from a wall it started close to was held by the wall's columns after they had left the view (on by default since session 23; off in session 22, when with it the main job met a wall after a false opening that --side-wall-cluster now removes; docs/explore.md, sessions 22 and 23)"));
     cmd->add_option("--blocked-min-range", blocked_min_range_m,
-                    text("A visual-sonar column blocked near (something inside the camera's blind range, at an unknown distance) stops travel along the directions whose swept band would meet a thing this far along its ray (metres; 0.45 by default since session 27: ±51° for a 0.25 m disc with its 0.1 m margin; 0.6 before, ±36°, let the flank of the disc meet a thing 0.36 m away; docs/explore.md, session 27)"))
+                    text("A visual-sonar column blocked near (something inside the camera's blind range, at an unknown distance) stops travel along the directions whose swept band would meet a thing this far along its ray (metres; 0.6 by default: ±36° for a 0.25 m disc with its 0.1 m margin, and the flank of the disc can meet a thing 0.36 m away; 0.45, ±51°, cleared every failing seeded start of seeds 1-32 but met a wall in a 45-minute run; docs/explore.md, session 27)"))
         ->capture_default_str()
         ->check(CLI::Range(0.05, 5.0));
+    cmd->add_option("--settled-blocked-min-range", settled_blocked_min_range_m,
+                    text("While following, once 1.6 m along a corridor, a blocked-near column's sector assumes a thing this far away instead of --blocked-min-range, which then holds for setting off, turning and the first metres (metres; 0: --blocked-min-range everywhere, the default; with --blocked-min-range 0.45, 0.6 here kept a 45-minute run off the carpeted middle corridor's wall but left another shuttling in one place; docs/explore.md, session 27)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 5.0));
     cmd->add_option("--blind-points-from", blind_points_from_m,
                     text("A visual-sonar column blocked near is also remembered for 5 s as soft points along its ray from this range (metres) out to the blind range, where the floor was not seen (0: off; 0.6 by default)"))
         ->capture_default_str()

@@ -122,6 +122,7 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(light_hold_s)) return "light_hold_s must be >= 0";
   if (!Positive(rescan_yaw_deg)) return "rescan_yaw_deg must be positive";
   if (!NonNegative(trust_memory_after_m)) return "trust_memory_after_m must be >= 0";
+  if (!NonNegative(settled_blocked_min_range_m)) return "settled_blocked_min_range_m must be >= 0";
   if (!(probe_max_wall_lines >= 0.0 && probe_max_wall_lines <= 1.0)) return "probe_max_wall_lines must be in [0, 1]";
   if (!(trust_memory_max_wall_lines >= 0.0 && trust_memory_max_wall_lines <= 1.0)) return "trust_memory_max_wall_lines must be in [0, 1]";
   if (!(blind_view_fraction > 0.0 && blind_view_fraction <= 1.0)) return "blind_view_fraction must be in (0, 1]";
@@ -441,8 +442,10 @@ double Explorer::Free(const Percept& p, double yaw, double max_m) const {
   // lines (trust_memory_max_wall_lines).
   const bool seen_free_exempts =
       !(opt_.trust_memory_max_wall_lines > 0.0 && last_wall_lines_ >= opt_.trust_memory_max_wall_lines);
+  const bool settled = opt_.settled_blocked_min_range_m > 0.0 && state_ == ExploreState::kFollow &&
+                       travel_in_corridor_m_ >= opt_.trust_memory_after_m;
   return memory_.FreeTravel(p.odom_T_robot, yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m, use_blocked,
-                            seen_free_exempts);
+                            seen_free_exempts, settled ? opt_.settled_blocked_min_range_m : 0.0);
 }
 
 double Explorer::FreeAcross(const Percept& p, double side_yaw, double line_m) const {

@@ -314,7 +314,8 @@ void ObstacleMemory::Gather(const Pose2& odom_T_robot, double stamp_s) {
 }
 
 double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m,
-                                  bool use_blocked, bool seen_free_exempts) const {
+                                  bool use_blocked, bool seen_free_exempts, double min_range_m) const {
+  const double near_m = min_range_m > 0.0 ? min_range_m : options_.blocked_min_range_m;
   const Eigen::Vector2d o = odom_T_robot.Translation();
   double free = max_m;
   // The latest scan's columns blocked nearer than the blind range: a direction whose swept band
@@ -326,7 +327,8 @@ double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double 
   // A wall filling the view: its blockage counts whatever the floor seen from farther back said.
   const bool view_blocked = options_.blocked_view_fraction > 0.0 && blocked_view_run_ >= options_.blocked_view_scans;
   const double latest = BlockedFree(blocked_yaws_.data(), n_blocked_, blocked_from_, blocked_range_m_,
-                                    blocked_stamp_s_, o, yaw, radius_m, use_blocked, seen_free_exempts, view_blocked, free);
+                                    blocked_stamp_s_, o, yaw, radius_m, use_blocked, seen_free_exempts, view_blocked, free,
+                                    false, near_m);
   // The held scans count where at least blocked_hold_scans scans (held ones and the latest) block
   // this direction: a blockage seen once is a flicker of the floor's texture.
   int blocking = latest < free ? 1 : 0;
@@ -335,7 +337,7 @@ double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double 
     for (const HeldBlockage& h : held_) {
       const double f = BlockedFree(h.yaws.data(), static_cast<int>(h.yaws.size()), h.from, h.range_m, h.stamp_s, o, yaw,
                                    radius_m, use_blocked, seen_free_exempts, view_blocked, free,
-                                   options_.blocked_hold_in_view);
+                                   options_.blocked_hold_in_view, near_m);
       if (f < free) {
         ++blocking;
         held = std::min(held, f);
@@ -348,9 +350,9 @@ double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double 
 double ObstacleMemory::BlockedFree(const double* yaws, int n, const Eigen::Vector2d& from, double range_m,
                                    double stamp_s, const Eigen::Vector2d& o, double yaw, double radius_m,
                                    bool use_blocked, bool seen_free_exempts, bool view_blocked, double free,
-                                   bool in_view_only) const {
+                                   bool in_view_only, double min_range_m) const {
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
-  const double half = use_blocked ? std::asin(std::min(1.0, radius_m / std::max(options_.blocked_min_range_m, radius_m)))
+  const double half = use_blocked ? std::asin(std::min(1.0, radius_m / std::max(min_range_m, radius_m)))
                                   : std::atan2(radius_m, std::max(range_m, radius_m));
   for (int i = 0; i < n; ++i) {
     const double byaw = yaws[i];

@@ -229,13 +229,21 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
   // information). Without such a reference (a wall fills the whole view) -> blocked near.
   // Only when enough columns have such a step (a few steps at the horizon may be a mortar line or
   // a seam on a wall that fills the view).
+  // With floor_ref_boundaries, the columns whose step is a boundary in range first; far columns
+  // (whose bottom may be something standing near, up to the horizon) only when those are too few.
+  const int min_ref = std::max(3, options_.min_reference_columns);
   int n_ref = 0;
-  for (int u = 0; u < w; ++u) {
-    const int found = rows_[static_cast<std::size_t>(u)];
-    if (found >= 0 && h - 1 - found >= reference_floor_rows_) ref_window_[static_cast<std::size_t>(n_ref++)] = bottom_[static_cast<std::size_t>(u)];
+  for (int pass = options_.floor_ref_boundaries ? 0 : 1; pass < 2 && n_ref < min_ref; ++pass) {
+    n_ref = 0;
+    for (int u = 0; u < w; ++u) {
+      const std::size_t i = static_cast<std::size_t>(u);
+      const int found = rows_[i];
+      if (found >= 0 && h - 1 - found >= reference_floor_rows_ && (pass == 1 || raw_[i] < options_.max_range_m))
+        ref_window_[static_cast<std::size_t>(n_ref++)] = bottom_[i];
+    }
   }
   float floor_ref = -1.0f;
-  if (n_ref >= std::max(3, options_.min_reference_columns)) {
+  if (n_ref >= min_ref) {
     std::nth_element(ref_window_.begin(), ref_window_.begin() + n_ref / 2, ref_window_.begin() + n_ref);
     floor_ref = ref_window_[static_cast<std::size_t>(n_ref / 2)];
   }

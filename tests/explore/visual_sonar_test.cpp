@@ -384,6 +384,36 @@ TEST(VisualSonar, AFarStepOverABottomUnlikeTheFloorIsSomethingStandingNear) {
   EXPECT_NE(o.Validate().find("far_floor_max_diff"), std::string::npos);
 }
 
+// The same dark thing filling most of the view (columns 16-63) up to the horizon: the columns
+// reading far outnumber those with a wall's base in range (0-15), the frame's floor reference (the
+// median bottom of the columns with a step) becomes the thing's own grey and far_floor_max_diff
+// finds nothing unlike it. With floor_ref_boundaries the reference comes from the columns with a
+// base in range: the thing's columns are blocked near. Without enough such columns (all 64 far) the
+// far columns make the reference as before.
+TEST(VisualSonar, AFloorReferenceFromBaseColumnsSeesAThingFillingMostOfTheView) {
+  const CameraModel cam = SonarCamera();
+  const int horizon = static_cast<int>(std::floor(cam.HorizonRow()));
+  std::vector<int> rows(64, 30);
+  for (int u = 16; u < 64; ++u) rows[static_cast<std::size_t>(u)] = horizon - 1;
+  Image im = FloorWall(rows);
+  for (int u = 16; u < 64; ++u)
+    for (int v = horizon; v < 48; ++v) im.At(u, v) = 65;
+  VisualSonarOptions o;
+  EXPECT_FALSE(o.floor_ref_boundaries);  // the default
+  VisualSonar off(cam, o);
+  const auto& before = off.Process(im.View());
+  for (int u = 20; u < 60; ++u) EXPECT_EQ(before[static_cast<std::size_t>(u)].kind, SonarReturn::kFar) << "column " << u;
+  o.floor_ref_boundaries = true;
+  VisualSonar on(cam, o);
+  const auto& after = on.Process(im.View());
+  for (int u = 20; u < 60; ++u) EXPECT_EQ(after[static_cast<std::size_t>(u)].kind, SonarReturn::kBlockedNear) << "column " << u;
+  for (int u = 4; u < 12; ++u) EXPECT_EQ(after[static_cast<std::size_t>(u)].kind, SonarReturn::kBoundary) << "column " << u;
+  // Floor to the horizon everywhere (no base in range): the far columns are the reference, far.
+  const Image open = FloorWall(std::vector<int>(64, horizon - 1));
+  const auto& far = on.Process(open.View());
+  for (int u = 4; u < 60; ++u) EXPECT_EQ(far[static_cast<std::size_t>(u)].kind, SonarReturn::kFar) << "column " << u;
+}
+
 // A floor without contrast to the walls, seen down a corridor: no step anywhere, but the grey
 // changes smoothly by 60 levels from the bottom row to the horizon (perspective shading). That is
 // floor, not a wall filling the view: unknown. A view of one surface (within 10 levels from the
@@ -666,6 +696,18 @@ TEST(ObstacleMemory, BlockedSectorWidensAsTheThingMayStandNearer) {
     EXPECT_EQ(free_along(0.45, b + side * 40.0 * deg), 0.0);
     EXPECT_EQ(free_along(0.45, b + side * 50.0 * deg), 0.0);
     EXPECT_EQ(free_along(0.45, b + side * 53.0 * deg), 5.0);
+  }
+  // A query's own range (the explorer's settled_blocked_min_range_m) replaces the option's.
+  {
+    ObstacleMemoryOptions opt;
+    opt.blocked_min_range_m = 0.45;
+    opt.blind_points_from_m = 0.0;
+    ObstacleMemory mem(opt);
+    mem.Update(scan, Pose2{}, 0.0, 0.6);
+    mem.Gather(Pose2{}, 0.0);
+    EXPECT_EQ(mem.FreeTravel(Pose2{}, b + 40.0 * deg, r, 5.0), 0.0);
+    EXPECT_EQ(mem.FreeTravel(Pose2{}, b + 40.0 * deg, r, 5.0, true, true, /*min_range_m=*/0.6), 5.0);
+    EXPECT_EQ(mem.FreeTravel(Pose2{}, b + 34.0 * deg, r, 5.0, true, true, /*min_range_m=*/0.6), 0.0);
   }
   // Nearer than the disc's radius: every heading toward the thing's half-plane is closed.
   EXPECT_EQ(free_along(0.3, b + 89.0 * deg), 0.0);

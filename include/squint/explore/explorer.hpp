@@ -256,6 +256,15 @@ struct ExplorerOptions {
   // the narrow sector at the blind range, and those along which the floor in the blind zone was
   // seen from farther back are ignored...
   double trust_memory_after_m = 1.6;
+  // While following, once the robot has come trust_memory_after_m along the corridor, a
+  // blocked-near column's sector assumes a thing this far away (metres) instead of the memory's
+  // blocked_min_range_m, which then holds for setting off, turning and the first metres only.
+  // Session 27: with blocked_min_range_m 0.45 everywhere, a 45-minute run (seed 12) took the wider
+  // sectors for headings more than 45° off the axis and turned off the carpeted middle corridor's
+  // axis into its unseen wall; 0.6 here fixed that run, but seed 2's 45 minutes then shuttled in
+  // one place (coverage 0.206). 0: the memory's blocked_min_range_m everywhere (the default;
+  // docs/explore.md, session 27).
+  double settled_blocked_min_range_m = 0.0;
   // ...but not when the latest scan's frame shows wall lines (VisualSonar::WallLineFraction, brick
   // mortar) in at least this fraction of its bands: a brick wall ahead, whose base the sonar may
   // have read as floor from farther back. 0 turns it off. On (0.375) since session 7 with

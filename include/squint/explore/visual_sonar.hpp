@@ -47,6 +47,13 @@ struct VisualSonarOptions {
   // horizon, so the only step is that top edge, at the horizon (the obstacle course's dark bin
   // 0.5 m ahead read as floor running 6 m on). 0 turns it off; 40 by default since session 26.
   double far_floor_max_diff = 40.0;
+  // The frame's floor reference (the median bottom of the columns with a clear step) taken from
+  // the columns whose step is a boundary in range only, when at least min_reference_columns (and
+  // 3) have one; far columns join it only otherwise. A box 0.45 m tall filling 50 of 64 columns
+  // from 0.17 m away reads far in all of them, its dark bottom became the floor reference, and
+  // far_floor_max_diff saw nothing unlike it (the obstacle course, start 7 of seed 52). Off by
+  // default (session 27: measured on the obstacle course only; docs/explore.md).
+  bool floor_ref_boundaries = false;
   // Floor-material edges (tiles to carpet) are not walls. Above a wall's base a vertical face
   // rises through the horizon; above a floor edge lies more floor, up to the next boundary. A
   // step followed, at least floor_edge_min_rows higher, by a second step below the horizon whose
