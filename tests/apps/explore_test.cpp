@@ -149,9 +149,9 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
 
 // Session 19's five rules, session 20's --blind-texture-keep-ref, session 21's --blocked-hold,
 // session 22's two, session 23's two and session 26's --far-floor-diff, each switched off (and
-// session 27's --blocked-min-range and --settled-blocked-min-range at their defaults), but for the one named (so a test of one
-// replays its case as it was found, with the others as they were then); LaterRulesOffBut("")
-// switches them all off.
+// session 27's --blocked-min-range and --settled-blocked-min-range at their defaults), but for the
+// one named (so a test of one replays its case as it was found, with the others as they were then);
+// LaterRulesOffBut("") switches them all off.
 std::string LaterRulesOffBut(const std::string& keep) {
   const std::vector<std::pair<std::string, std::string>> rules = {{"--side-wall-cluster", " --side-wall-cluster 0"},
                                                                   {"--floor-edge-band-mouth", " --no-floor-edge-band-mouth"},
@@ -454,20 +454,17 @@ TEST(ExploreCli, ADarkBinFillingTheViewToTheHorizonIsNoFloorRunningOn) {
 // 0.45 m away (--blocked-min-range 0.45; ±45° for the obstacle course's disc) neither meets anything.
 TEST(ExploreCli, SomethingInsideTheBlindRangeMayStandNearerThanTheSectorAssumed) {
   const auto dir = TempDir("blocked-min-range");
-  auto summary = [&](const std::string& name, const std::string& args) {
-    return ExploreSummary(dir / name, args);
-  };
   const std::string column = "--world obstacle-course --seed 4 --eval-start 1 --minutes 0.6";
-  const nlohmann::json column_off = summary("column-off", column + " --blocked-min-range 0.6");
+  const nlohmann::json column_off = ExploreSummary(dir / "column-off", column + " --blocked-min-range 0.6");
   EXPECT_GT(column_off["collisions"].get<long>(), 0);
   EXPECT_EQ(column_off["first_hit"].get<std::string>(), "obstacles[2] (column)");
-  const nlohmann::json column_on = summary("column-on", column + " --blocked-min-range 0.45");
+  const nlohmann::json column_on = ExploreSummary(dir / "column-on", column + " --blocked-min-range 0.45");
   EXPECT_EQ(column_on["collisions"].get<long>(), 0);
   const std::string corner = "--world corridor-9 --seed 17 --eval-start 2 --minutes 0.35";
-  const nlohmann::json corner_off = summary("corner-off", corner + " --blocked-min-range 0.6");
+  const nlohmann::json corner_off = ExploreSummary(dir / "corner-off", corner + " --blocked-min-range 0.6");
   EXPECT_GT(corner_off["collisions"].get<long>(), 0);
   EXPECT_EQ(corner_off["first_hit"].get<std::string>(), "wall");
-  const nlohmann::json corner_on = summary("corner-on", corner + " --blocked-min-range 0.45");
+  const nlohmann::json corner_on = ExploreSummary(dir / "corner-on", corner + " --blocked-min-range 0.45");
   EXPECT_EQ(corner_on["collisions"].get<long>(), 0);
   std::filesystem::remove_all(dir);
 }

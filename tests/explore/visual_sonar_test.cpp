@@ -678,14 +678,15 @@ TEST(ObstacleMemory, BlockedSectorWidensAsTheThingMayStandNearer) {
   scan[ahead].range_m = 0.0;
   const double r = 0.35;
   const double deg = kPi / 180.0;
-  auto free_along = [&](double min_range_m, double yaw) {
+  // query_m > 0: the query's own range (the explorer's settled_blocked_min_range_m).
+  auto free_along = [&](double min_range_m, double yaw, double query_m = 0.0) {
     ObstacleMemoryOptions opt;
     opt.blocked_min_range_m = min_range_m;
     opt.blind_points_from_m = 0.0;  // the sector alone
     ObstacleMemory mem(opt);
     mem.Update(scan, Pose2{}, 0.0, 0.6);
     mem.Gather(Pose2{}, 0.0);
-    return mem.FreeTravel(Pose2{}, yaw, r, 5.0);
+    return mem.FreeTravel(Pose2{}, yaw, r, 5.0, true, true, query_m);
   };
   const double b = scan[ahead].bearing_rad;
   for (const double side : {1.0, -1.0}) {
@@ -697,18 +698,9 @@ TEST(ObstacleMemory, BlockedSectorWidensAsTheThingMayStandNearer) {
     EXPECT_EQ(free_along(0.45, b + side * 50.0 * deg), 0.0);
     EXPECT_EQ(free_along(0.45, b + side * 53.0 * deg), 5.0);
   }
-  // A query's own range (the explorer's settled_blocked_min_range_m) replaces the option's.
-  {
-    ObstacleMemoryOptions opt;
-    opt.blocked_min_range_m = 0.45;
-    opt.blind_points_from_m = 0.0;
-    ObstacleMemory mem(opt);
-    mem.Update(scan, Pose2{}, 0.0, 0.6);
-    mem.Gather(Pose2{}, 0.0);
-    EXPECT_EQ(mem.FreeTravel(Pose2{}, b + 40.0 * deg, r, 5.0), 0.0);
-    EXPECT_EQ(mem.FreeTravel(Pose2{}, b + 40.0 * deg, r, 5.0, true, true, /*min_range_m=*/0.6), 5.0);
-    EXPECT_EQ(mem.FreeTravel(Pose2{}, b + 34.0 * deg, r, 5.0, true, true, /*min_range_m=*/0.6), 0.0);
-  }
+  // A query's own range replaces the option's: 0.45 m set, 0.6 m asked.
+  EXPECT_EQ(free_along(0.45, b + 40.0 * deg, 0.6), 5.0);
+  EXPECT_EQ(free_along(0.45, b + 34.0 * deg, 0.6), 0.0);
   // Nearer than the disc's radius: every heading toward the thing's half-plane is closed.
   EXPECT_EQ(free_along(0.3, b + 89.0 * deg), 0.0);
   EXPECT_EQ(free_along(0.3, b + 91.0 * deg), 5.0);
