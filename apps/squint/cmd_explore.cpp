@@ -136,6 +136,8 @@ struct ExplorerVariants {
   double blocked_min_range_m = 0.6;
   // ...and this far once following has come 1.6 m along a corridor (ExplorerOptions::settled_blocked_min_range_m; 0: off, the default).
   double settled_blocked_min_range_m = 0.0;
+  // ...and this far from a start or scan until 1.6 m of following or a turn (ExplorerOptions::setoff_blocked_min_range_m; 0: off; 0.45 since session 28).
+  double setoff_blocked_min_range_m = 0.45;
   // Soft points along a blocked-near column's ray from this range on (ObstacleMemoryOptions::blind_points_from_m; 0: off; 0.6).
   double blind_points_from_m = 0.6;
   // A side wall abeam needs another point within this distance (ExplorerOptions::side_wall_cluster_m; 0: nearest point).
@@ -191,6 +193,7 @@ struct ExplorerVariants {
     ro.explorer.memory.blocked_hold_in_view = blocked_hold_in_view;
     ro.explorer.memory.blocked_min_range_m = blocked_min_range_m;
     ro.explorer.settled_blocked_min_range_m = settled_blocked_min_range_m;
+    ro.explorer.setoff_blocked_min_range_m = setoff_blocked_min_range_m;
     ro.explorer.memory.blind_points_from_m = blind_points_from_m;
     ro.explorer.side_wall_cluster_m = side_wall_cluster_m;
     ro.explorer.floor_edge_band_mouth = floor_edge_band_mouth;
@@ -313,6 +316,10 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.05, 5.0));
     cmd->add_option("--settled-blocked-min-range", settled_blocked_min_range_m,
                     text("While following, once 1.6 m along a corridor, a blocked-near column's sector assumes a thing this far away instead of --blocked-min-range, which then holds for setting off, turning and the first metres (metres; 0: --blocked-min-range everywhere, the default; with --blocked-min-range 0.45, 0.6 here kept a 45-minute run off the carpeted middle corridor's wall but left another shuttling in one place; docs/explore.md, session 27)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 5.0));
+    cmd->add_option("--setoff-blocked-min-range", setoff_blocked_min_range_m,
+                    text("From a start or a recovery scan until following has come 1.6 m along the corridor set off into (or the first turn), a blocked-near column's sector assumes a thing this far away instead of --blocked-min-range: the robot knows nothing of the floor it never saw, and a column 0.36 m from the disc's flank and a corner 0.38 m away were met setting off (metres; 0: off; 0.45 by default since session 28: seeded starts 3 of 4,120 runs meet something against 5, the 45-minute traces of the main job's world unchanged; docs/explore.md, session 28)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 5.0));
     cmd->add_option("--blind-points-from", blind_points_from_m,

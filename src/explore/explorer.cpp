@@ -123,6 +123,7 @@ std::string ExplorerOptions::Validate() const {
   if (!Positive(rescan_yaw_deg)) return "rescan_yaw_deg must be positive";
   if (!NonNegative(trust_memory_after_m)) return "trust_memory_after_m must be >= 0";
   if (!NonNegative(settled_blocked_min_range_m)) return "settled_blocked_min_range_m must be >= 0";
+  if (!NonNegative(setoff_blocked_min_range_m)) return "setoff_blocked_min_range_m must be >= 0";
   if (!(probe_max_wall_lines >= 0.0 && probe_max_wall_lines <= 1.0)) return "probe_max_wall_lines must be in [0, 1]";
   if (!(trust_memory_max_wall_lines >= 0.0 && trust_memory_max_wall_lines <= 1.0)) return "trust_memory_max_wall_lines must be in [0, 1]";
   if (!(blind_view_fraction > 0.0 && blind_view_fraction <= 1.0)) return "blind_view_fraction must be in (0, 1]";
@@ -444,8 +445,10 @@ double Explorer::Free(const Percept& p, double yaw, double max_m) const {
       !(opt_.trust_memory_max_wall_lines > 0.0 && last_wall_lines_ >= opt_.trust_memory_max_wall_lines);
   const bool settled = opt_.settled_blocked_min_range_m > 0.0 && state_ == ExploreState::kFollow &&
                        travel_in_corridor_m_ >= opt_.trust_memory_after_m;
+  double min_range_m = settled ? opt_.settled_blocked_min_range_m : 0.0;
+  if (setting_off_ && opt_.setoff_blocked_min_range_m > 0.0) min_range_m = opt_.setoff_blocked_min_range_m;
   return memory_.FreeTravel(p.odom_T_robot, yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m, use_blocked,
-                            seen_free_exempts, settled ? opt_.settled_blocked_min_range_m : 0.0);
+                            seen_free_exempts, min_range_m);
 }
 
 double Explorer::FreeAcross(const Percept& p, double side_yaw, double line_m) const {
@@ -528,6 +531,7 @@ void Explorer::UpdateMapPose(const Percept& p) {
   odometer_m_ += std::abs(ds);
   if (state_ == ExploreState::kFollow) {
     travel_in_corridor_m_ += std::abs(ds);
+    if (travel_in_corridor_m_ >= opt_.trust_memory_after_m) setting_off_ = false;
     if (dist_end_m_ >= 0.0) dist_end_m_ = std::max(0.0, dist_end_m_ - ds * std::cos(WrapPi(p.odom_T_robot.yaw - axis_yaw_odom_)));
   }
   last_odom_ = p.odom_T_robot;
@@ -769,6 +773,7 @@ void Explorer::ClearAlignSamples() {
 
 void Explorer::StartScan(const Percept& p) {
   state_ = ExploreState::kScan;
+  setting_off_ = true;
   scan_axis_mod90_.clear();
   scan_line_axis_mod90_.clear();
   std::fill(scan_sum_.begin(), scan_sum_.end(), 0.0);
@@ -1479,6 +1484,7 @@ void Explorer::Decide(const Percept& p) {
 
 void Explorer::StartTurnTo(const Percept& p, int dir, int turn_deg, const std::string& note) {
   turn_to_dir_ = dir;
+  setting_off_ = false;
   const int rel = (dir - dir_ + 4) & 3;
   rot_ = Rotation{WrapPi(axis_yaw_odom_ + rel * kPi / 2.0), 0};
   state_ = ExploreState::kTurn;

@@ -148,8 +148,9 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
 }
 
 // Session 19's five rules, session 20's --blind-texture-keep-ref, session 21's --blocked-hold,
-// session 22's two, session 23's two and session 26's --far-floor-diff, each switched off (and
-// session 27's --blocked-min-range and --settled-blocked-min-range at their defaults), but for the
+// session 22's two, session 23's two, session 26's --far-floor-diff and session 28's
+// --setoff-blocked-min-range, each switched off (and session 27's --blocked-min-range and
+// --settled-blocked-min-range at their defaults), but for the
 // one named (so a test of one replays its case as it was found, with the others as they were then);
 // LaterRulesOffBut("") switches them all off.
 std::string LaterRulesOffBut(const std::string& keep) {
@@ -167,7 +168,8 @@ std::string LaterRulesOffBut(const std::string& keep) {
                                                                   {"--probe-wall-lines", " --probe-wall-lines 0"},
                                                                   {"--far-floor-diff", " --far-floor-diff 0"},
                                                                   {"--blocked-min-range", " --blocked-min-range 0.6"},
-                                                                  {"--settled-blocked-min-range", " --settled-blocked-min-range 0"}};
+                                                                  {"--settled-blocked-min-range", " --settled-blocked-min-range 0"},
+                                                                  {"--setoff-blocked-min-range", " --setoff-blocked-min-range 0"}};
   std::string flags;
   for (const auto& [name, off] : rules)
     if (name != keep) flags += off;
@@ -243,7 +245,7 @@ TEST(ExploreCli, WallLinesHoldTheAxisWhereTheWallsHaveTheFloorsGrey) {
 TEST(ExploreCli, AStartInAJunctionLeavesTheBranchBehindUnknownAndAStalledShiftEnds) {
   const auto dir = TempDir("junction-start");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world corridor-1 --seed 1 --eval-start 6 --minutes 1.7 --blocked-min-range 0.6" + flag);
+    return ExploreSummary(dir / name, "--world corridor-1 --seed 1 --eval-start 6 --minutes 1.7 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + flag);
   };
   // Session 21's --blocked-hold, off as when the case was found (it keeps the robot off the wall too).
   const nlohmann::json before = summary("before", " --arrival-min-travel 0 --shift-stall 0 --blocked-hold 0");
@@ -264,7 +266,7 @@ TEST(ExploreCli, AStartInAJunctionLeavesTheBranchBehindUnknownAndAStalledShiftEn
 TEST(ExploreCli, ASonarEndCloseAheadBlocksABranchTheMapHoldsExplored) {
   const auto dir = TempDir("sonar-end");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world obstacle-course --seed 1 --eval-start 2 --minutes 2.6 --far-floor-diff 0 --blocked-min-range 0.6" + flag);  // as found: before session 26's far-floor rule and session 27's sector
+    return ExploreSummary(dir / name, "--world obstacle-course --seed 1 --eval-start 2 --minutes 2.6 --far-floor-diff 0 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + flag);  // as found: before session 26's far-floor rule and sessions 27-28's sectors
   };
   // Session 21's --blocked-hold, off as when the case was found (it keeps the robot off the bin too).
   const nlohmann::json off = summary("off", " --sonar-end-blocks 0 --blind-texture 0 --no-scan-blind-start --blocked-hold 0");
@@ -407,7 +409,7 @@ TEST(ExploreCli, BrickLinesHeldOverASecondKeepTheRobotOffABrickCorner) {
 TEST(ExploreCli, TheRobotCreepsTowardAPlaceTheMapHoldsADeadEnd) {
   const auto dir = TempDir("known-end-slow");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world corridor-5 --seed 6 --eval-start 2 --minutes 3 --blocked-hold 0 --blocked-min-range 0.6" + flag);
+    return ExploreSummary(dir / name, "--world corridor-5 --seed 6 --eval-start 2 --minutes 3 --blocked-hold 0 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + flag);
   };
   const nlohmann::json off = summary("off", " --known-end-slow 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -434,7 +436,7 @@ TEST(ExploreCli, TheRobotCreepsTowardAPlaceTheMapHoldsADeadEnd) {
 TEST(ExploreCli, ADarkBinFillingTheViewToTheHorizonIsNoFloorRunningOn) {
   const auto dir = TempDir("far-floor-diff");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world obstacle-course --seed 59 --eval-start 5 --minutes 0.7 --blocked-min-range 0.6" + flag);
+    return ExploreSummary(dir / name, "--world obstacle-course --seed 59 --eval-start 5 --minutes 0.7 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + flag);
   };
   const nlohmann::json off = summary("off", " --far-floor-diff 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -450,22 +452,42 @@ TEST(ExploreCli, ADarkBinFillingTheViewToTheHorizonIsNoFloorRunningOn) {
 // stood 0.36 m from the concrete column at (7.0, 0.6); its columns blocked near closed a sector of
 // ±32° about them (a thing 0.6 m away assumed), the robot set off along the sector's edge and met
 // the column with its flank at 30.1 s. corridor-9, start 2 of seed 17: set off 0.38 m from a convex
-// corner and met the wall at 15.8 s (both with the default 0.6 m). With the sector for a thing
-// 0.45 m away (--blocked-min-range 0.45; ±45° for the obstacle course's disc) neither meets anything.
+// corner and met the wall at 15.8 s (both with 0.6 m, the default, and no set-off range). With the
+// sector for a thing 0.45 m away (--blocked-min-range 0.45; ±45° for the obstacle course's disc)
+// neither meets anything.
 TEST(ExploreCli, SomethingInsideTheBlindRangeMayStandNearerThanTheSectorAssumed) {
   const auto dir = TempDir("blocked-min-range");
   const std::string column = "--world obstacle-course --seed 4 --eval-start 1 --minutes 0.6";
-  const nlohmann::json column_off = ExploreSummary(dir / "column-off", column + " --blocked-min-range 0.6");
+  const nlohmann::json column_off = ExploreSummary(dir / "column-off", column + " --blocked-min-range 0.6 --setoff-blocked-min-range 0");
   EXPECT_GT(column_off["collisions"].get<long>(), 0);
   EXPECT_EQ(column_off["first_hit"].get<std::string>(), "obstacles[2] (column)");
-  const nlohmann::json column_on = ExploreSummary(dir / "column-on", column + " --blocked-min-range 0.45");
+  const nlohmann::json column_on = ExploreSummary(dir / "column-on", column + " --blocked-min-range 0.45 --setoff-blocked-min-range 0");
   EXPECT_EQ(column_on["collisions"].get<long>(), 0);
   const std::string corner = "--world corridor-9 --seed 17 --eval-start 2 --minutes 0.35";
-  const nlohmann::json corner_off = ExploreSummary(dir / "corner-off", corner + " --blocked-min-range 0.6");
+  const nlohmann::json corner_off = ExploreSummary(dir / "corner-off", corner + " --blocked-min-range 0.6 --setoff-blocked-min-range 0");
   EXPECT_GT(corner_off["collisions"].get<long>(), 0);
   EXPECT_EQ(corner_off["first_hit"].get<std::string>(), "wall");
-  const nlohmann::json corner_on = ExploreSummary(dir / "corner-on", corner + " --blocked-min-range 0.45");
+  const nlohmann::json corner_on = ExploreSummary(dir / "corner-on", corner + " --blocked-min-range 0.45 --setoff-blocked-min-range 0");
   EXPECT_EQ(corner_on["collisions"].get<long>(), 0);
+  std::filesystem::remove_all(dir);
+}
+
+// The same two starts with the 0.45 m sector only while setting off (from the start or a recovery
+// scan until 1.6 m of following or the first turn; the defaults since session 28): both meet
+// nothing, and seed 12's following of the carpeted middle corridor, which the nearer sector
+// everywhere drove into its wall (next test), keeps the 0.6 m sector and meets nothing in those
+// ten minutes either.
+TEST(ExploreCli, TheNearerSectorWhileSettingOffOnly) {
+  const auto dir = TempDir("setoff-blocked-min-range");
+  const std::string setoff = " --blocked-min-range 0.6 --setoff-blocked-min-range 0.45";
+  const nlohmann::json column =
+      ExploreSummary(dir / "column", "--world obstacle-course --seed 4 --eval-start 1 --minutes 0.6" + setoff);
+  EXPECT_EQ(column["collisions"].get<long>(), 0);
+  const nlohmann::json corner =
+      ExploreSummary(dir / "corner", "--world corridor-9 --seed 17 --eval-start 2 --minutes 0.35" + setoff);
+  EXPECT_EQ(corner["collisions"].get<long>(), 0);
+  const nlohmann::json carpet = ExploreSummary(dir / "carpet", "--seed 12 --minutes 10.2" + setoff);
+  EXPECT_EQ(carpet["collisions"].get<long>(), 0);
   std::filesystem::remove_all(dir);
 }
 
@@ -523,7 +545,7 @@ TEST(ExploreCli, SmootherAndSmootherViewsOfADoorKeepTheFloorsTexture) {
   const auto dir = TempDir("blind-texture-keep-peak");
   auto summary = [&](const std::string& name, const std::string& flag) {
     return ExploreSummary(dir / name, "--world corridor-0 --seed 8 --eval-start 2 --minutes 1.6 --no-blocked-hold-in-view"
-                                            " --side-wall-cluster 0 --blocked-min-range 0.6 --no-floor-edge-band-mouth" + flag);
+                                            " --side-wall-cluster 0 --blocked-min-range 0.6 --setoff-blocked-min-range 0 --no-floor-edge-band-mouth" + flag);
   };
   const nlohmann::json off = summary("off", " --no-blind-texture-keep-peak");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -569,7 +591,7 @@ TEST(ExploreCli, AFloorEdgeBandSpanningOnlyTheMouthKeepsTheCorridorsCorner) {
 TEST(ExploreCli, TheUnknownFloorGuardActsOnlyAtTheStartOnTheBinsFlankContact) {
   const auto dir = TempDir("guard-unknown");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world obstacle-course --seed 59 --eval-start 5 --minutes 0.7 --far-floor-diff 0 --blocked-min-range 0.6" + flag);  // as found: before session 26's far-floor rule and session 27's sector
+    return ExploreSummary(dir / name, "--world obstacle-course --seed 59 --eval-start 5 --minutes 0.7 --far-floor-diff 0 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + flag);  // as found: before session 26's far-floor rule and sessions 27-28's sectors
   };
   const nlohmann::json off = summary("off", " --guard-unknown 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -595,7 +617,7 @@ TEST(ExploreCli, TheUnknownFloorGuardActsOnlyAtTheStartOnTheBinsFlankContact) {
 TEST(ExploreCli, HeldColumnsThatLeftTheViewLetTheRobotTurnAwayFromAWall) {
   const auto dir = TempDir("blocked-hold-in-view");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world default --seed 12 --eval-start 2 --minutes 1.1 --blocked-min-range 0.6" + flag);
+    return ExploreSummary(dir / name, "--world default --seed 12 --eval-start 2 --minutes 1.1 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + flag);
   };
   const nlohmann::json off = summary("off", " --no-blocked-hold-in-view");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -622,7 +644,7 @@ TEST(ExploreCli, HeldColumnsThatLeftTheViewLetTheRobotTurnAwayFromAWall) {
 TEST(ExploreCli, ABrickWallsLinesInTheProbeScanKeepTheSideClosed) {
   const auto dir = TempDir("probe-wall-lines");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world default --seed 17 --eval-start 2 --minutes 0.7 --blocked-min-range 0.6" + flag);
+    return ExploreSummary(dir / name, "--world default --seed 17 --eval-start 2 --minutes 0.7 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + flag);
   };
   const nlohmann::json off = summary("off", " --probe-wall-lines 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -637,7 +659,7 @@ TEST(ExploreCli, ABrickWallsLinesInTheProbeScanKeepTheSideClosed) {
 TEST(ExploreCli, BlockedNearColumnsHeldKeepTheRobotOffAChair) {
   const auto dir = TempDir("blocked-hold");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world obstacle-course --seed 24 --eval-start 1 --minutes 0.25 --far-floor-diff 0 --blocked-min-range 0.6" + flag);  // as found: before session 26's far-floor rule and session 27's sector
+    return ExploreSummary(dir / name, "--world obstacle-course --seed 24 --eval-start 1 --minutes 0.25 --far-floor-diff 0 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + flag);  // as found: before session 26's far-floor rule and sessions 27-28's sectors
   };
   const nlohmann::json off = summary("off", " --blocked-hold 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
