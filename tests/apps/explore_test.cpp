@@ -150,9 +150,9 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
 // Session 19's five rules, session 20's --blind-texture-keep-ref, session 21's --blocked-hold,
 // session 22's two, session 23's two, session 26's --far-floor-diff and session 28's
 // --setoff-blocked-min-range, each switched off (and session 27's --blocked-min-range and
-// --settled-blocked-min-range at their defaults), but for the
-// one named (so a test of one replays its case as it was found, with the others as they were then);
-// LaterRulesOffBut("") switches them all off.
+// --settled-blocked-min-range at their defaults), but for the one named (so a test of one replays
+// its case as it was found, with the others as they were then); LaterRulesOffBut("") switches them
+// all off.
 std::string LaterRulesOffBut(const std::string& keep) {
   const std::vector<std::pair<std::string, std::string>> rules = {{"--side-wall-cluster", " --side-wall-cluster 0"},
                                                                   {"--floor-edge-band-mouth", " --no-floor-edge-band-mouth"},
@@ -455,19 +455,20 @@ TEST(ExploreCli, ADarkBinFillingTheViewToTheHorizonIsNoFloorRunningOn) {
 // corner and met the wall at 15.8 s (both with 0.6 m, the default, and no set-off range). With the
 // sector for a thing 0.45 m away (--blocked-min-range 0.45; ±45° for the obstacle course's disc)
 // neither meets anything.
+const std::string kColumnStart = "--world obstacle-course --seed 4 --eval-start 1 --minutes 0.6";
+const std::string kCornerStart = "--world corridor-9 --seed 17 --eval-start 2 --minutes 0.35";
+
 TEST(ExploreCli, SomethingInsideTheBlindRangeMayStandNearerThanTheSectorAssumed) {
   const auto dir = TempDir("blocked-min-range");
-  const std::string column = "--world obstacle-course --seed 4 --eval-start 1 --minutes 0.6";
-  const nlohmann::json column_off = ExploreSummary(dir / "column-off", column + " --blocked-min-range 0.6 --setoff-blocked-min-range 0");
+  const nlohmann::json column_off = ExploreSummary(dir / "column-off", kColumnStart + " --blocked-min-range 0.6 --setoff-blocked-min-range 0");
   EXPECT_GT(column_off["collisions"].get<long>(), 0);
   EXPECT_EQ(column_off["first_hit"].get<std::string>(), "obstacles[2] (column)");
-  const nlohmann::json column_on = ExploreSummary(dir / "column-on", column + " --blocked-min-range 0.45 --setoff-blocked-min-range 0");
+  const nlohmann::json column_on = ExploreSummary(dir / "column-on", kColumnStart + " --blocked-min-range 0.45 --setoff-blocked-min-range 0");
   EXPECT_EQ(column_on["collisions"].get<long>(), 0);
-  const std::string corner = "--world corridor-9 --seed 17 --eval-start 2 --minutes 0.35";
-  const nlohmann::json corner_off = ExploreSummary(dir / "corner-off", corner + " --blocked-min-range 0.6 --setoff-blocked-min-range 0");
+  const nlohmann::json corner_off = ExploreSummary(dir / "corner-off", kCornerStart + " --blocked-min-range 0.6 --setoff-blocked-min-range 0");
   EXPECT_GT(corner_off["collisions"].get<long>(), 0);
   EXPECT_EQ(corner_off["first_hit"].get<std::string>(), "wall");
-  const nlohmann::json corner_on = ExploreSummary(dir / "corner-on", corner + " --blocked-min-range 0.45 --setoff-blocked-min-range 0");
+  const nlohmann::json corner_on = ExploreSummary(dir / "corner-on", kCornerStart + " --blocked-min-range 0.45 --setoff-blocked-min-range 0");
   EXPECT_EQ(corner_on["collisions"].get<long>(), 0);
   std::filesystem::remove_all(dir);
 }
@@ -480,11 +481,9 @@ TEST(ExploreCli, SomethingInsideTheBlindRangeMayStandNearerThanTheSectorAssumed)
 TEST(ExploreCli, TheNearerSectorWhileSettingOffOnly) {
   const auto dir = TempDir("setoff-blocked-min-range");
   const std::string setoff = " --blocked-min-range 0.6 --setoff-blocked-min-range 0.45";
-  const nlohmann::json column =
-      ExploreSummary(dir / "column", "--world obstacle-course --seed 4 --eval-start 1 --minutes 0.6" + setoff);
+  const nlohmann::json column = ExploreSummary(dir / "column", kColumnStart + setoff);
   EXPECT_EQ(column["collisions"].get<long>(), 0);
-  const nlohmann::json corner =
-      ExploreSummary(dir / "corner", "--world corridor-9 --seed 17 --eval-start 2 --minutes 0.35" + setoff);
+  const nlohmann::json corner = ExploreSummary(dir / "corner", kCornerStart + setoff);
   EXPECT_EQ(corner["collisions"].get<long>(), 0);
   const nlohmann::json carpet = ExploreSummary(dir / "carpet", "--seed 12 --minutes 10.2" + setoff);
   EXPECT_EQ(carpet["collisions"].get<long>(), 0);

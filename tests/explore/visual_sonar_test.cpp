@@ -678,7 +678,7 @@ TEST(ObstacleMemory, BlockedSectorWidensAsTheThingMayStandNearer) {
   scan[ahead].range_m = 0.0;
   const double r = 0.35;
   const double deg = kPi / 180.0;
-  // query_m > 0: the query's own range (the explorer's settled_blocked_min_range_m).
+  // query_m > 0: the query's own range (the explorer's settled_ or setoff_blocked_min_range_m).
   auto free_along = [&](double min_range_m, double yaw, double query_m = 0.0) {
     ObstacleMemoryOptions opt;
     opt.blocked_min_range_m = min_range_m;
