@@ -138,6 +138,8 @@ struct ExplorerVariants {
   double settled_blocked_min_range_m = 0.0;
   // ...and this far from a start or scan until 1.6 m of following or a turn (ExplorerOptions::setoff_blocked_min_range_m; 0: off; 0.45 since session 28).
   double setoff_blocked_min_range_m = 0.45;
+  // Watch for the robot's own reflection and remember a wall on the mirror (ExplorerOptions::mirror_watch; off).
+  bool mirror_watch = false;
   // Soft points along a blocked-near column's ray from this range on (ObstacleMemoryOptions::blind_points_from_m; 0: off; 0.6).
   double blind_points_from_m = 0.6;
   // A side wall abeam needs another point within this distance (ExplorerOptions::side_wall_cluster_m; 0: nearest point).
@@ -194,6 +196,7 @@ struct ExplorerVariants {
     ro.explorer.memory.blocked_min_range_m = blocked_min_range_m;
     ro.explorer.settled_blocked_min_range_m = settled_blocked_min_range_m;
     ro.explorer.setoff_blocked_min_range_m = setoff_blocked_min_range_m;
+    ro.explorer.mirror_watch = mirror_watch;
     ro.explorer.memory.blind_points_from_m = blind_points_from_m;
     ro.explorer.side_wall_cluster_m = side_wall_cluster_m;
     ro.explorer.floor_edge_band_mouth = floor_edge_band_mouth;
@@ -322,6 +325,8 @@ struct ExplorerVariants {
                     text("From a start or a recovery scan until following has come 1.6 m along the corridor set off into (or the first turn), a blocked-near column's sector assumes a thing this far away instead of --blocked-min-range: the robot knows nothing of the floor it never saw, and a column 0.36 m from the disc's flank and a corner 0.38 m away were met setting off (metres; 0: off; 0.45 by default since session 28: seeded starts 3 of 4,120 runs meet something against 5, the 45-minute traces of the main job's world unchanged; docs/explore.md, session 28)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 5.0));
+    cmd->add_flag("--mirror-watch,!--no-mirror-watch", mirror_watch,
+                  text("Watch the visual sonar for the robot's own reflection, a disc of its radius that moves as the robot's position mirrored in a plane (it comes nearer at twice the robot's speed), which nothing standing does; where it shows, remember a wall on the mirror's plane that the floor seen through the mirror does not erase: a mirror shows the corridor going on behind its base (off by default; docs/explore.md, session 29)"));
     cmd->add_option("--blind-points-from", blind_points_from_m,
                     text("A visual-sonar column blocked near is also remembered for 5 s as soft points along its ray from this range (metres) out to the blind range, where the floor was not seen (0: off; 0.6 by default)"))
         ->capture_default_str()
@@ -426,10 +431,11 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
       "| world | start | x, y, yaw | minutes | distance m | coverage | ends | turns | collisions | outcome |\n"
       "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   // The columns after `proceeded` (empty when nothing was measured) are against ground truth: see
-  // ExploreSummary's setoff_*, axis_error_* and first_* (the first contact and what it touched).
+  // ExploreSummary's setoff_*, axis_error_* and first_* (the first contact and what it touched);
+  // mirror_scans counts the sonar scans that showed the robot's own reflection (--mirror-watch).
   std::string csv =
       "world,start,x_m,y_m,yaw_deg,sim_seconds,distance_m,coverage,ends_detected,turns,collisions,proceeded,"
-      "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg,first_collision_s,first_hit\n";
+      "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg,first_collision_s,first_hit,mirror_scans\n";
   std::map<std::string, int> first_hits;  // world: what, -> runs whose first contact it was
   int total_collisions = 0, runs = 0, clean = 0;
   int off_axis_runs = 0, setoff_off = 0;  // runs with following frames; set-offs more than 10° off the axis
@@ -458,7 +464,7 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
              Fixed(s.coverage, 4) + "," + std::to_string(s.ends_detected) + "," + std::to_string(s.turns) + "," +
              std::to_string(s.collisions) + "," + (s.proceeded ? "1" : "0") + "," + Cell(s.setoff_seconds, 2) + "," +
              Cell(s.setoff_axis_error_deg, 2) + "," + Cell(s.axis_error_p90_deg, 2) + "," + Cell(s.axis_error_over_10deg, 4) +
-             "," + Cell(s.first_collision_s, 2) + "," + CsvText(s.first_hit) + "\n";
+             "," + Cell(s.first_collision_s, 2) + "," + CsvText(s.first_hit) + "," + std::to_string(s.mirror_scans) + "\n";
       if (!s.first_hit.empty()) ++first_hits[world.name + ": " + s.first_hit];
       if (std::isfinite(s.axis_error_over_10deg)) {
         off_axis_sum += s.axis_error_over_10deg;

@@ -144,6 +144,8 @@ std::string SummaryJson(const ExploreSummary& s) {
   j["advice_in_path"] = s.advice_in_path;
   j["override_frames"] = s.override_frames;
   j["obstacle_stops"] = s.obstacle_stops;
+  // Sonar scans that showed the robot's own reflection (`--mirror-watch`; 0 when off).
+  j["mirror_scans"] = s.mirror_scans;
   // The first contact (null / empty without one): when, the robot's true position, what it
   // touched ("wall" or the world file's entry).
   j["first_collision_s"] = num(s.first_collision_s);

@@ -124,6 +124,8 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(trust_memory_after_m)) return "trust_memory_after_m must be >= 0";
   if (!NonNegative(settled_blocked_min_range_m)) return "settled_blocked_min_range_m must be >= 0";
   if (!NonNegative(setoff_blocked_min_range_m)) return "setoff_blocked_min_range_m must be >= 0";
+  if (!(mirror_wall_half_span_m > 0.0 && mirror_wall_half_span_m <= 10.0)) return "mirror_wall_half_span_m must be in (0, 10]";
+  if (const std::string e = mirror.Validate(); !e.empty()) return e;
   if (!(probe_max_wall_lines >= 0.0 && probe_max_wall_lines <= 1.0)) return "probe_max_wall_lines must be in [0, 1]";
   if (!(trust_memory_max_wall_lines >= 0.0 && trust_memory_max_wall_lines <= 1.0)) return "trust_memory_max_wall_lines must be in [0, 1]";
   if (!(blind_view_fraction > 0.0 && blind_view_fraction <= 1.0)) return "blind_view_fraction must be in (0, 1]";
@@ -193,10 +195,15 @@ ObstacleMemoryOptions MemoryOptions(const ExplorerOptions& o) {
   m.mark_known_free = m.mark_known_free || o.guard_unknown_step_m > 0.0;
   return m;
 }
+MirrorWatchOptions MirrorOptions(const ExplorerOptions& o) {
+  MirrorWatchOptions m = o.mirror;
+  m.body_radius_m = o.robot_radius_m;  // the reflection is the robot's own disc
+  return m;
+}
 }  // namespace
 
 Explorer::Explorer(const ExplorerOptions& options)
-    : opt_(options), map_(options.map), memory_(MemoryOptions(options)) {
+    : opt_(options), map_(options.map), memory_(MemoryOptions(options)), mirror_(MirrorOptions(options)) {
   const std::string err = opt_.Validate();
   SQUINT_ENSURE(err.empty(), "ExplorerOptions: " + err);
   ref_entropy_.reserve(static_cast<std::size_t>(opt_.reference_window));
@@ -353,6 +360,13 @@ void Explorer::UpdateSonar(const Percept& p) {
   }
   last_scan_blind_ = blind_view;
   memory_.Update(*scan, p.odom_T_robot, p.stamp_s, p.sonar_near_blind_m);
+  if (opt_.mirror_watch && mirror_.Update(*p.sonar, p.odom_T_robot, p.stamp_s)) {
+    const Mirror& m = mirror_.Latest();
+    const Eigen::Vector2d along(-m.normal.y(), m.normal.x());
+    const double step = 0.5 * opt_.memory.cell_m;
+    for (double s = -opt_.mirror_wall_half_span_m; s <= opt_.mirror_wall_half_span_m + 1e-9; s += step)
+      memory_.InsertConfirmed(m.point + s * along, p.stamp_s);
+  }
   // A blind view with a corridor in the glance: nothing stands within the blind range ahead, so
   // what the memory holds there (a floor-material edge taken for a wall from farther back, e.g.
   // at the mouth of default's carpeted middle corridor) goes.

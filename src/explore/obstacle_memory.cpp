@@ -139,6 +139,16 @@ void ObstacleMemory::Insert(const Eigen::Vector2d& p, const Eigen::Vector2d& fro
   c.soft = false;
 }
 
+void ObstacleMemory::InsertConfirmed(const Eigen::Vector2d& p, double stamp_s) {
+  Cell& c = At(p);
+  c.p = p;
+  c.stamp_s = stamp_s;
+  c.soft = false;
+  c.scans = 1;
+  c.first_from = p;
+  c.confirmed = true;
+}
+
 void ObstacleMemory::InsertBlindRay(const Eigen::Vector2d& origin, double yaw, double to_m, double stamp_s) {
   if (!(options_.blind_points_from_m > 0.0)) return;
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));

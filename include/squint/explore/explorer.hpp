@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "squint/explore/mirror_watch.hpp"
 #include "squint/explore/obstacle_memory.hpp"
 #include "squint/explore/percept.hpp"
 #include "squint/explore/topo_map.hpp"
@@ -277,6 +278,15 @@ struct ExplorerOptions {
   // something against 5; the main job's and `default`'s 45-minute traces are unchanged
   // (`squint explore --setoff-blocked-min-range M`; docs/explore.md, session 28).
   double setoff_blocked_min_range_m = 0.45;
+  // Watch the visual sonar for the robot's own reflection (MirrorWatch: a disc of the robot's
+  // radius that moves as the robot's position mirrored in a plane, not as anything standing
+  // does) and, where it shows, remember a wall on the mirror's plane (confirmed points, which
+  // floor seen through the mirror does not remove) mirror_wall_half_span_m to each side of where
+  // the robot's line of sight meets it. A mirror shows the corridor going on behind its base, and
+  // corridor-5's robot weaved into its mirror end (start 0 of seed 23).
+  bool mirror_watch = false;
+  double mirror_wall_half_span_m = 1.5;
+  MirrorWatchOptions mirror;  // its body_radius_m is robot_radius_m
   // ...but not when the latest scan's frame shows wall lines (VisualSonar::WallLineFraction, brick
   // mortar) in at least this fraction of its bands: a brick wall ahead, whose base the sonar may
   // have read as floor from farther back. 0 turns it off. On (0.375) since session 7 with
@@ -598,6 +608,8 @@ class Explorer {
   long BlindViews() const { return blind_views_; }
   // Sonar columns read blocked near from the walls' lines' frame's smooth bottom (blind_texture_ratio).
   long BlindTextureColumns() const { return blind_texture_kept_; }
+  // Sonar scans that showed the robot's own reflection (mirror_watch).
+  int MirrorsFound() const { return mirror_.Found(); }
 
  private:
   struct Rotation {
@@ -841,6 +853,7 @@ class Explorer {
 
   // Visual sonar.
   ObstacleMemory memory_;
+  MirrorWatch mirror_;
   std::vector<SonarColumn> sonar_copy_;  // a scan with blocked-near columns read as unknown (blind view)
   long blind_views_ = 0;
   bool view_is_wall_ = false;  // this step's sonar view read as a wall filling the view

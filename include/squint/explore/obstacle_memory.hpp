@@ -154,6 +154,9 @@ class ObstacleMemory {
   // The cells under a disc of radius_m around the robot are known free (it stands there). Called
   // every frame; nothing else changes.
   void MarkFootprint(const Pose2& odom_T_robot, double radius_m, double stamp_s);
+  // Remembers a confirmed point at p (a wall known by other means than the floor seen: floor seen
+  // beyond it later does not remove it, only age does).
+  void InsertConfirmed(const Eigen::Vector2d& p, double stamp_s);
   // True when the disc of radius_m, moved step_m along `yaw`, would cover a cell whose centre is
   // at least inner_m to the side of its path (the camera's view does not reach beside the robot)
   // and which was not known free within keep_seconds of now_s: floor never seen there, beside
