@@ -100,27 +100,27 @@ bool MirrorWatch::Update(const std::vector<SonarColumn>& scan, const Pose2& odom
     bool stands = false;
     counted_.clear();
     for (const Entry& h : history_) {
-      // Scans taken nearer than discriminate_m to this one cannot tell a reflection from a thing
-      // standing: both would be seen within match_m of where they are now.
       const double apart = (e.from - h.from).norm();
-      if (apart < options_.discriminate_m) continue;
-      // Where that scan would have seen the robot's reflection in this mirror.
+      if (apart < options_.match_m || h.centres.empty()) continue;
+      // Where that scan would have seen the robot's reflection in this mirror: as far from c as
+      // the robot was from where it stands now. A thing standing still was seen at c itself.
       const Eigen::Vector2d predicted = h.from + 2.0 * (mid - h.from).dot(nrm) * nrm;
+      bool match = false;
       for (const Eigen::Vector2d& hc : h.centres) {
-        if ((hc - c).norm() <= options_.match_m) stands = true;  // it stood where it stands now
-        if ((hc - predicted).norm() <= options_.match_m) {
-          // Scans taken from one place (a robot standing) are one observation.
-          const bool again = std::any_of(counted_.begin(), counted_.end(), [&](const Eigen::Vector2d& q) {
-            return (q - h.from).norm() < options_.distinct_m;
-          });
-          if (!again) {
-            counted_.push_back(h.from);
-            ++matches;
-          }
-          baseline = std::max(baseline, apart);
-          break;
-        }
+        const double to_c = (hc - c).norm(), to_predicted = (hc - predicted).norm();
+        if (to_c <= 0.5 * apart && to_c < to_predicted) stands = true;
+        if (to_predicted <= options_.match_m) match = true;
       }
+      // Scans taken nearer than discriminate_m to this one cannot tell the two apart. Scans taken
+      // from one place (a robot standing) are one observation.
+      if (!match || apart < options_.discriminate_m) continue;
+      const bool again = std::any_of(counted_.begin(), counted_.end(),
+                                     [&](const Eigen::Vector2d& q) { return (q - h.from).norm() < options_.distinct_m; });
+      if (!again) {
+        counted_.push_back(h.from);
+        ++matches;
+      }
+      baseline = std::max(baseline, apart);
     }
     if (!stands && matches >= options_.min_matches && baseline >= options_.min_baseline_m) {
       latest_.found = true;

@@ -411,7 +411,7 @@ TEST(ExploreCli, BrickLinesHeldOverASecondKeepTheRobotOffABrickCorner) {
 TEST(ExploreCli, TheRobotCreepsTowardAPlaceTheMapHoldsADeadEnd) {
   const auto dir = TempDir("known-end-slow");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world corridor-5 --seed 6 --eval-start 2 --minutes 3 --blocked-hold 0 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + flag);
+    return ExploreSummary(dir / name, "--world corridor-5 --seed 6 --eval-start 2 --minutes 3 --blocked-hold 0 --blocked-min-range 0.6 --setoff-blocked-min-range 0 --no-mirror-watch" + flag);
   };
   const nlohmann::json off = summary("off", " --known-end-slow 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);

@@ -19,8 +19,9 @@
 // scans of the last history_s seconds, taken discriminate_m or more away (the farthest at least
 // min_baseline_m, and no two of them taken within distinct_m of each other: a robot standing
 // still looks once however many scans it takes), show a candidate within match_m of where that
-// mirror puts the reflection of the robot as it stood then, and none shows one within match_m of
-// c itself (a thing standing still).
+// mirror puts the reflection of the robot as it stood then; and no earlier scan taken match_m or
+// more away shows a candidate nearer c itself than that scan's reflection would be and within
+// half the distance between the two scans' positions of c (a thing standing still, seen there).
 #pragma once
 
 #include <deque>
