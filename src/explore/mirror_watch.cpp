@@ -122,7 +122,18 @@ bool MirrorWatch::Update(const std::vector<SonarColumn>& scan, const Pose2& odom
       }
       baseline = std::max(baseline, apart);
     }
-    if (!stands && matches >= options_.min_matches && baseline >= options_.min_baseline_m) {
+    // A reflection moves as the robot does, one scan at a time: the latest earlier scan that saw
+    // any candidate saw one no farther from c than the robot has moved since (and match_m). A thing
+    // standing whose range reading jumped toward the robot by about its travel does not.
+    bool continues = true;
+    for (auto h = history_.rbegin(); options_.continuity && h != history_.rend(); ++h) {
+      if (h->centres.empty()) continue;
+      const double reach = (e.from - h->from).norm() + options_.match_m;
+      continues = std::any_of(h->centres.begin(), h->centres.end(),
+                              [&](const Eigen::Vector2d& hc) { return (hc - c).norm() <= reach; });
+      break;
+    }
+    if (!stands && continues && matches >= options_.min_matches && baseline >= options_.min_baseline_m) {
       latest_.found = true;
       latest_.normal = nrm;
       latest_.point = mid;

@@ -19,9 +19,11 @@
 // scans of the last history_s seconds, taken discriminate_m or more away (the farthest at least
 // min_baseline_m, and no two of them taken within distinct_m of each other: a robot standing
 // still looks once however many scans it takes), show a candidate within match_m of where that
-// mirror puts the reflection of the robot as it stood then; and no earlier scan taken match_m or
+// mirror puts the reflection of the robot as it stood then; no earlier scan taken match_m or
 // more away shows a candidate nearer c itself than that scan's reflection would be and within
-// half the distance between the two scans' positions of c (a thing standing still, seen there).
+// half the distance between the two scans' positions of c (a thing standing still, seen there);
+// and the latest earlier scan with any candidate has one within the robot's travel since (plus
+// match_m) of c (continuity).
 #pragma once
 
 #include <deque>
@@ -47,6 +49,10 @@ struct MirrorWatchOptions {
   double distinct_m = 0.04;      // ...taken this far from each other (a robot standing still looks once)
   double min_baseline_m = 0.35;  // ...the farthest of them at least this far away
   double history_s = 2.0;        // earlier scans kept
+  // The latest earlier scan that saw any candidate saw one within the robot's travel since (and
+  // match_m) of c: a reflection moves one scan at a time; a thing standing whose range reading
+  // jumped toward the robot by about its travel mimics one (three such in the obstacle course).
+  bool continuity = true;
   std::string Validate() const;
 };
 
