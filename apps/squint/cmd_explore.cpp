@@ -138,8 +138,8 @@ struct ExplorerVariants {
   double settled_blocked_min_range_m = 0.0;
   // ...and this far from a start or scan until 1.6 m of following or a turn (ExplorerOptions::setoff_blocked_min_range_m; 0: off; 0.45 since session 28).
   double setoff_blocked_min_range_m = 0.45;
-  // Watch for the robot's own reflection and remember a wall on the mirror (ExplorerOptions::mirror_watch; off).
-  bool mirror_watch = false;
+  // Watch for the robot's own reflection and remember a wall on the mirror (ExplorerOptions::mirror_watch; on since session 29).
+  bool mirror_watch = true;
   // Soft points along a blocked-near column's ray from this range on (ObstacleMemoryOptions::blind_points_from_m; 0: off; 0.6).
   double blind_points_from_m = 0.6;
   // A side wall abeam needs another point within this distance (ExplorerOptions::side_wall_cluster_m; 0: nearest point).
@@ -326,7 +326,7 @@ struct ExplorerVariants {
         ->capture_default_str()
         ->check(CLI::Range(0.0, 5.0));
     cmd->add_flag("--mirror-watch,!--no-mirror-watch", mirror_watch,
-                  text("Watch the visual sonar for the robot's own reflection, a disc of its radius that moves as the robot's position mirrored in a plane (it comes nearer at twice the robot's speed), which nothing standing does; where it shows, remember a wall on the mirror's plane that the floor seen through the mirror does not erase: a mirror shows the corridor going on behind its base (off by default; docs/explore.md, session 29)"));
+                  text("Watch the visual sonar for the robot's own reflection, a disc of its radius that moves as the robot's position mirrored in a plane (it comes nearer at twice the robot's speed), which nothing standing does; where it shows, remember a wall on the mirror's plane that the floor seen through the mirror does not erase: a mirror shows the corridor going on behind its base, and corridor-5's robot weaved into its mirror end (on by default since session 29; docs/explore.md, session 29)"));
     cmd->add_option("--blind-points-from", blind_points_from_m,
                     text("A visual-sonar column blocked near is also remembered for 5 s as soft points along its ray from this range (metres) out to the blind range, where the floor was not seen (0: off; 0.6 by default)"))
         ->capture_default_str()

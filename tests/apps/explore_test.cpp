@@ -150,11 +150,11 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
 }
 
 // Session 19's five rules, session 20's --blind-texture-keep-ref, session 21's --blocked-hold,
-// session 22's two, session 23's two, session 26's --far-floor-diff and session 28's
-// --setoff-blocked-min-range, each switched off (and session 27's --blocked-min-range and
-// --settled-blocked-min-range at their defaults), but for the one named (so a test of one replays
-// its case as it was found, with the others as they were then); LaterRulesOffBut("") switches them
-// all off.
+// session 22's two, session 23's two, session 26's --far-floor-diff, session 28's
+// --setoff-blocked-min-range and session 29's --mirror-watch, each switched off (and session 27's
+// --blocked-min-range and --settled-blocked-min-range at their defaults), but for the one named
+// (so a test of one replays its case as it was found, with the others as they were then);
+// LaterRulesOffBut("") switches them all off.
 std::string LaterRulesOffBut(const std::string& keep) {
   const std::vector<std::pair<std::string, std::string>> rules = {{"--side-wall-cluster", " --side-wall-cluster 0"},
                                                                   {"--floor-edge-band-mouth", " --no-floor-edge-band-mouth"},
@@ -171,7 +171,8 @@ std::string LaterRulesOffBut(const std::string& keep) {
                                                                   {"--far-floor-diff", " --far-floor-diff 0"},
                                                                   {"--blocked-min-range", " --blocked-min-range 0.6"},
                                                                   {"--settled-blocked-min-range", " --settled-blocked-min-range 0"},
-                                                                  {"--setoff-blocked-min-range", " --setoff-blocked-min-range 0"}};
+                                                                  {"--setoff-blocked-min-range", " --setoff-blocked-min-range 0"},
+                                                                  {"--mirror-watch", " --no-mirror-watch"}};
   std::string flags;
   for (const auto& [name, off] : rules)
     if (name != keep) flags += off;

@@ -283,8 +283,9 @@ struct ExplorerOptions {
   // does) and, where it shows, remember a wall on the mirror's plane (confirmed points, which
   // floor seen through the mirror does not remove) mirror_wall_half_span_m to each side of where
   // the robot's line of sight meets it. A mirror shows the corridor going on behind its base, and
-  // corridor-5's robot weaved into its mirror end (start 0 of seed 23).
-  bool mirror_watch = false;
+  // corridor-5's robot weaved into its mirror end (start 0 of seed 23). On by default since
+  // session 29 (`squint explore --no-mirror-watch`; docs/explore.md, session 29).
+  bool mirror_watch = true;
   double mirror_wall_half_span_m = 1.5;
   MirrorWatchOptions mirror;  // its body_radius_m is robot_radius_m
   // ...but not when the latest scan's frame shows wall lines (VisualSonar::WallLineFraction, brick
