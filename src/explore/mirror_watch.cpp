@@ -23,11 +23,6 @@ std::string MirrorWatchOptions::Validate() const {
 
 MirrorWatch::MirrorWatch(const MirrorWatchOptions& options) : options_(options) {}
 
-void MirrorWatch::Clear() {
-  history_.clear();
-  latest_ = Mirror{};
-}
-
 std::vector<Eigen::Vector2d> MirrorWatch::Candidates(const std::vector<SonarColumn>& scan, const Pose2& odom_T_robot,
                                                      const MirrorWatchOptions& options) {
   std::vector<Eigen::Vector2d> out;

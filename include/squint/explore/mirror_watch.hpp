@@ -73,7 +73,6 @@ class MirrorWatch {
   bool Update(const std::vector<SonarColumn>& scan, const Pose2& odom_T_robot, double stamp_s);
   const Mirror& Latest() const { return latest_; }
   int Found() const { return found_; }  // scans that found a mirror
-  void Clear();
 
   // The candidate reflections' centres (odometry frame) in one scan.
   static std::vector<Eigen::Vector2d> Candidates(const std::vector<SonarColumn>& scan, const Pose2& odom_T_robot,
