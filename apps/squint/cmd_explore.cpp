@@ -140,6 +140,8 @@ struct ExplorerVariants {
   double setoff_blocked_min_range_m = 0.45;
   // Watch for the robot's own reflection and remember a wall on the mirror (ExplorerOptions::mirror_watch; on since session 29).
   bool mirror_watch = true;
+  // Feel contacts from the wheels, remember them and reverse the way just driven (ExplorerOptions::feel_contacts; on since session 30).
+  bool feel_contacts = true;
   // Soft points along a blocked-near column's ray from this range on (ObstacleMemoryOptions::blind_points_from_m; 0: off; 0.6).
   double blind_points_from_m = 0.6;
   // A side wall abeam needs another point within this distance (ExplorerOptions::side_wall_cluster_m; 0: nearest point).
@@ -197,6 +199,7 @@ struct ExplorerVariants {
     ro.explorer.settled_blocked_min_range_m = settled_blocked_min_range_m;
     ro.explorer.setoff_blocked_min_range_m = setoff_blocked_min_range_m;
     ro.explorer.mirror_watch = mirror_watch;
+    ro.explorer.feel_contacts = feel_contacts;
     ro.explorer.memory.blind_points_from_m = blind_points_from_m;
     ro.explorer.side_wall_cluster_m = side_wall_cluster_m;
     ro.explorer.floor_edge_band_mouth = floor_edge_band_mouth;
@@ -327,6 +330,8 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 5.0));
     cmd->add_flag("--mirror-watch,!--no-mirror-watch", mirror_watch,
                   text("Watch the visual sonar for the robot's own reflection, a disc of its radius that moves as the robot's position mirrored in a plane (it comes nearer at twice the robot's speed), which nothing standing does; where it shows, remember a wall on the mirror's plane that the floor seen through the mirror does not erase: a mirror shows the corridor going on behind its base, and corridor-5's robot weaved into its mirror end (on by default since session 29; docs/explore.md, session 29)"));
+    cmd->add_flag("--feel-contacts,!--no-feel-contacts", feel_contacts,
+                  text("Feel a contact from the wheels: commanded forward on two steps in a row while odometry shows (almost) no progress, something stands against the disc's front where the camera cannot see it; remember it as a point the floor seen later does not erase, reverse up to 0.1 m along the way just driven (the one reversal that is not blind) and look and choose as at any blockage (on by default since session 30; docs/explore.md, session 30)"));
     cmd->add_option("--blind-points-from", blind_points_from_m,
                     text("A visual-sonar column blocked near is also remembered for 5 s as soft points along its ray from this range (metres) out to the blind range, where the floor was not seen (0: off; 0.6 by default)"))
         ->capture_default_str()
@@ -432,10 +437,11 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
       "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   // The columns after `proceeded` (empty when nothing was measured) are against ground truth: see
   // ExploreSummary's setoff_*, axis_error_* and first_* (the first contact and what it touched);
-  // mirror_scans counts the sonar scans that showed the robot's own reflection (--mirror-watch).
+  // mirror_scans counts the sonar scans that showed the robot's own reflection (--mirror-watch);
+  // contacts_felt the contacts the robot felt from its wheels (--feel-contacts).
   std::string csv =
       "world,start,x_m,y_m,yaw_deg,sim_seconds,distance_m,coverage,ends_detected,turns,collisions,proceeded,"
-      "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg,first_collision_s,first_hit,mirror_scans\n";
+      "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg,first_collision_s,first_hit,mirror_scans,contacts_felt\n";
   std::map<std::string, int> first_hits;  // world: what, -> runs whose first contact it was
   int total_collisions = 0, runs = 0, clean = 0;
   int off_axis_runs = 0, setoff_off = 0;  // runs with following frames; set-offs more than 10° off the axis
@@ -464,7 +470,8 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
              Fixed(s.coverage, 4) + "," + std::to_string(s.ends_detected) + "," + std::to_string(s.turns) + "," +
              std::to_string(s.collisions) + "," + (s.proceeded ? "1" : "0") + "," + Cell(s.setoff_seconds, 2) + "," +
              Cell(s.setoff_axis_error_deg, 2) + "," + Cell(s.axis_error_p90_deg, 2) + "," + Cell(s.axis_error_over_10deg, 4) +
-             "," + Cell(s.first_collision_s, 2) + "," + CsvText(s.first_hit) + "," + std::to_string(s.mirror_scans) + "\n";
+             "," + Cell(s.first_collision_s, 2) + "," + CsvText(s.first_hit) + "," + std::to_string(s.mirror_scans) + "," +
+             std::to_string(s.contacts_felt) + "\n";
       if (!s.first_hit.empty()) ++first_hits[world.name + ": " + s.first_hit];
       if (std::isfinite(s.axis_error_over_10deg)) {
         off_axis_sum += s.axis_error_over_10deg;

@@ -409,6 +409,7 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   s.override_frames = explorer.ObstacleOverrides();
   s.obstacle_stops = explorer.ObstacleStops();
   s.mirror_scans = explorer.MirrorsFound();
+  s.contacts_felt = explorer.ContactsFelt();
   if (!axis_errors.empty()) {
     const auto p90 = axis_errors.begin() + static_cast<std::ptrdiff_t>(0.9 * static_cast<double>(axis_errors.size() - 1));
     std::nth_element(axis_errors.begin(), p90, axis_errors.end());

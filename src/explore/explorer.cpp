@@ -37,6 +37,8 @@ bool NonNegative(double x) { return std::isfinite(x) && x >= 0.0; }
 // Entropy samples of the corridor being followed before they make its reference (until then the
 // reference is carried over from the corridor before or the start-up scan).
 constexpr int kOwnReferenceSamples = 8;
+// Backing off, in reverse (m/s).
+constexpr double kReverseMps = 0.2;
 // The walls' lines' views of the corridor ahead count this long (their frame comes every third
 // frame while following or probing: about five views, at least half of which must show it free;
 // a tiled floor's joints make single views scatter), taken facing within this of the direction.
@@ -79,6 +81,11 @@ std::string ExplorerOptions::Validate() const {
   if (!Positive(scan_rate_rps)) return "scan_rate_rps must be positive";
   if (!Positive(stall_window_s)) return "stall_window_s must be positive";
   if (!NonNegative(stall_min_progress_m)) return "stall_min_progress_m must be >= 0";
+  if (!Positive(contact_min_v_mps)) return "contact_min_v_mps must be positive";
+  if (contact_frames < 1 || contact_frames > 100) return "contact_frames must be in [1, 100]";
+  if (!(contact_max_progress > 0.0 && contact_max_progress < 1.0)) return "contact_max_progress must be in (0, 1)";
+  if (!NonNegative(contact_point_gap_m)) return "contact_point_gap_m must be >= 0";
+  if (!NonNegative(contact_reverse_m) || contact_reverse_m > 1.0) return "contact_reverse_m must be in [0, 1]";
   if (!NonNegative(arrival_min_travel_m)) return "arrival_min_travel_m must be >= 0";
   if (!NonNegative(shift_stall_s)) return "shift_stall_s must be >= 0";
   if (!(blind_texture_ratio >= 0.0 && blind_texture_ratio < 1.0)) return "blind_texture_ratio must be in [0, 1)";
@@ -246,11 +253,17 @@ Command Explorer::Step(const Percept& p) {
     axis_yaw_odom_ = p.odom_T_robot.yaw;
     state_ = ExploreState::kAlign;  // look first; scan only when the view is not a corridor
   }
+  const Pose2 moved = Between(last_odom_, p.odom_T_robot);
   UpdateMapPose(p);
   memory_.MarkFootprint(p.odom_T_robot, opt_.robot_radius_m, p.stamp_s);  // with guard_unknown_step_m
   UpdateSonar(p);
   NoteWallLinesAhead(p);
   Command cmd;
+  if (FeelContact(p, moved)) {
+    last_cmd_ = cmd;
+    last_cmd_s_ = p.stamp_s;
+    return cmd;
+  }
   switch (state_) {
     case ExploreState::kScan: cmd = ScanStep(p); break;
     case ExploreState::kFollow: cmd = FollowStep(p); break;
@@ -1399,8 +1412,50 @@ void Explorer::StartProbe(bool at_end) {
 
 // --- Back off -------------------------------------------------------------------------------
 
+bool Explorer::FeelContact(const Percept& p, const Pose2& moved) {
+  if (!opt_.feel_contacts) return false;
+  // The way just driven: forward along a path straight enough to retrace by reversing straight
+  // (curvature under kRetraceCurvature: 1 cm off the path over 0.1 m); turning in place or
+  // reversing starts it afresh, standing still keeps it.
+  constexpr double kRetraceCurvature = 2.0;  // rad/m
+  if (moved.x > 1e-4 && std::abs(moved.yaw) <= kRetraceCurvature * moved.x) {
+    forward_run_m_ += moved.x;
+  } else if (moved.x < -1e-4 || std::abs(moved.yaw) > 1e-3) {
+    forward_run_m_ = 0.0;
+  }
+  const double dt = p.stamp_s - last_cmd_s_;
+  const bool pushing = last_cmd_s_ >= 0.0 && dt > 0.0 && last_cmd_.v_mps >= opt_.contact_min_v_mps &&
+                       moved.x < opt_.contact_max_progress * last_cmd_.v_mps * dt;
+  contact_run_ = pushing ? contact_run_ + 1 : 0;
+  if (contact_run_ < opt_.contact_frames) return false;
+  contact_run_ = 0;
+  ++contacts_felt_;
+  const Eigen::Vector2d d(std::cos(p.odom_T_robot.yaw), std::sin(p.odom_T_robot.yaw));
+  memory_.InsertConfirmed(p.odom_T_robot.Translation() + (opt_.robot_radius_m + opt_.contact_point_gap_m) * d,
+                          p.stamp_s);
+  memory_.Gather(p.odom_T_robot, p.stamp_s);
+  const double reverse_m = std::min(opt_.contact_reverse_m, forward_run_m_);
+  Emit(ExploreEvent::Kind::kStall, p, 0,
+       Format("contact felt: commanded %.2f m/s, no wheel progress; reversing %.2f m", last_cmd_.v_mps, reverse_m));
+  stalled_since_start_ = true;
+  state_ = ExploreState::kBackOff;
+  backoff_from_ = p.odom_T_robot.Translation();
+  backoff_reverse_m_ = reverse_m;
+  backoff_until_s_ = p.stamp_s + 2.0 * reverse_m / kReverseMps;  // a time limit as well
+  forward_run_m_ = 0.0;
+  stall_.Reset();
+  return true;
+}
+
 Command Explorer::BackOffStep(const Percept& p) {
-  if (p.stamp_s < backoff_until_s_) return {-0.2, 0.0};
+  if (backoff_reverse_m_ >= 0.0) {
+    // After a contact: reverse the measured distance along the way just driven.
+    if (p.stamp_s < backoff_until_s_ && (p.odom_T_robot.Translation() - backoff_from_).norm() < backoff_reverse_m_ - 0.005)
+      return {-kReverseMps, 0.0};
+    backoff_reverse_m_ = -1.0;
+  } else if (p.stamp_s < backoff_until_s_) {
+    return {-kReverseMps, 0.0};
+  }
   // Treat the blockage like the end of the corridor: look and choose. Blocked right after setting
   // off (the node's position or the branch was wrong): that branch is a wall after all.
   ++ends_;

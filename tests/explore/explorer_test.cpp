@@ -1168,6 +1168,7 @@ TEST(Explorer, BlockedNearWithWallLinesCountsDespiteFloorSeenFromBehind) {
     ExplorerOptions o;
     o.trust_memory_max_wall_lines = k.max_lines;
     o.detect_branches = false;
+    o.feel_contacts = false;  // the script holds the pose while the robot is commanded forward
     Explorer e(o);
     ScriptedSonar w;
     ASSERT_TRUE(w.UntilFollowing(e));
@@ -1419,7 +1420,58 @@ TEST(Explorer, ABoxInsideABranchIsNotItsFarEdge) {
   }
 }
 
+// A thin post the camera never sees (the toy's sonar reads only the walls) stands 3 m down a 2 m
+// corridor, beside the robot's path: its disc stops against it (the toy's collision stop, the
+// pose kept). Without contact feeling the explorer pushes on until its stall guard's window ends,
+// turns in place and sets off into the post again; with it, two steps without wheel progress are
+// a contact: it remembers a point ahead, reverses along the way it came and looks elsewhere.
+TEST(Explorer, AContactFeltFromTheWheelsIsRememberedAndBackedOutOf) {
+  for (const bool rule : {true, false}) {
+    ToyPlan world;
+    world.walls = {{-1, 1, 25, 1}, {-1, -1, 25, -1}, {-1, -1, -1, 1}, {25, -1, 25, 1}};
+    world.pose = {1.0, 0.0, 0.0};
+    const Eigen::Vector2d post(4.0, 0.12);
+    const double reach = 0.25 + 0.04;  // the disc's radius plus the post's
+    ExplorerOptions o;
+    o.feel_contacts = rule;
+    Explorer explorer(o);
+    int contact_steps = 0;
+    double contact_x = -1.0, min_x_after = 1e9;
+    for (int i = 0; i < 30 * 60; ++i) {
+      const Command c = explorer.Step(world.Perceive());
+      const Pose2 before = world.pose;
+      world.Apply(c);
+      if ((world.pose.Translation() - post).norm() < reach) {
+        world.pose.x = before.x;  // stopped at the contact; the turn still happens
+        world.pose.y = before.y;
+        ++contact_steps;
+        if (contact_x < 0.0) contact_x = before.x;
+      }
+      if (contact_x >= 0.0) min_x_after = std::min(min_x_after, world.pose.x);
+    }
+    ASSERT_GE(contact_x, 0.0) << rule;  // the post was met (the camera cannot see it)
+    if (rule) {
+      EXPECT_GE(explorer.ContactsFelt(), 1);
+      // Each contact is felt on its second step without progress (the toy stops the disc before
+      // it overlaps, so a step that meets the post moves nothing).
+      EXPECT_LE(contact_steps, o.contact_frames * explorer.ContactsFelt());
+      EXPECT_LT(min_x_after, contact_x - 0.05);  // reversed the way it came
+      bool noted = false;
+      for (const ExploreEvent& e : explorer.Events()) noted |= e.note.rfind("contact felt", 0) == 0;
+      EXPECT_TRUE(noted);
+    } else {
+      EXPECT_EQ(explorer.ContactsFelt(), 0);
+      EXPECT_GT(contact_steps, 20);
+    }
+  }
+}
+
 TEST(Explorer, OptionsValidateNamesTheField) {
+  {
+    ExplorerOptions o;
+    o.contact_max_progress = 1.0;
+    EXPECT_NE(o.Validate().find("contact_max_progress"), std::string::npos);
+  }
   {
     ExplorerOptions o;
     o.branch_line_tolerance_m = 0.7;  // beyond the band

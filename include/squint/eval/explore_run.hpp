@@ -151,6 +151,7 @@ struct ExploreSummary {
   long ipt_pairs = 0, ipt_classified = 0, advice_in_path = 0, override_frames = 0;
   int obstacle_stops = 0;
   int mirror_scans = 0;  // sonar scans that showed the robot's own reflection (--mirror-watch)
+  int contacts_felt = 0;  // contacts felt from the wheels (--feel-contacts)
   double ipt_cpu_seconds = 0.0;  // part of perception_cpu_seconds
   // How well the explorer knew the corridor's axis (ground truth, not used by the loop): at the
   // first set-off (the end of the start-up alignment or scan) and over the frames spent following
