@@ -154,7 +154,7 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
 
 // Session 19's five rules, session 20's --blind-texture-keep-ref, session 21's --blocked-hold,
 // session 22's two, session 23's two, session 26's --far-floor-diff, session 28's
-// --setoff-blocked-min-range and session 29's --mirror-watch, each switched off (and session 27's
+// --setoff-blocked-min-range, session 29's --mirror-watch and session 30's --feel-contacts, each switched off (and session 27's
 // --blocked-min-range and --settled-blocked-min-range at their defaults), but for the one named
 // (so a test of one replays its case as it was found, with the others as they were then);
 // LaterRulesOffBut("") switches them all off.
@@ -175,7 +175,8 @@ std::string LaterRulesOffBut(const std::string& keep) {
                                                                   {"--blocked-min-range", " --blocked-min-range 0.6"},
                                                                   {"--settled-blocked-min-range", " --settled-blocked-min-range 0"},
                                                                   {"--setoff-blocked-min-range", " --setoff-blocked-min-range 0"},
-                                                                  {"--mirror-watch", " --no-mirror-watch"}};
+                                                                  {"--mirror-watch", " --no-mirror-watch"},
+                                                                  {"--feel-contacts", " --no-feel-contacts"}};
   std::string flags;
   for (const auto& [name, off] : rules)
     if (name != keep) flags += off;
@@ -253,11 +254,12 @@ TEST(ExploreCli, AStartInAJunctionLeavesTheBranchBehindUnknownAndAStalledShiftEn
   auto summary = [&](const std::string& name, const std::string& flag) {
     return ExploreSummary(dir / name, "--world corridor-1 --seed 1 --eval-start 6 --minutes 1.7 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + flag);
   };
-  // Session 21's --blocked-hold, off as when the case was found (it keeps the robot off the wall too).
-  const nlohmann::json before = summary("before", " --arrival-min-travel 0 --shift-stall 0 --blocked-hold 0");
+  // Session 21's --blocked-hold and session 30's --feel-contacts, off as when the case was found
+  // (the first keeps the robot off the wall too, the second backs it off the wall at the first contact).
+  const nlohmann::json before = summary("before", " --arrival-min-travel 0 --shift-stall 0 --blocked-hold 0 --no-feel-contacts");
   EXPECT_GT(before["collisions"].get<long>(), 150);
   EXPECT_EQ(before["first_hit"].get<std::string>(), "wall");
-  const nlohmann::json shift_stall = summary("shift-stall", " --arrival-min-travel 0 --blocked-hold 0");
+  const nlohmann::json shift_stall = summary("shift-stall", " --arrival-min-travel 0 --blocked-hold 0 --no-feel-contacts");
   EXPECT_GT(shift_stall["collisions"].get<long>(), 0);
   EXPECT_LT(shift_stall["collisions"].get<long>(), 80);
   const nlohmann::json defaults = summary("defaults", "");
