@@ -142,6 +142,7 @@ struct ExplorerVariants {
   bool mirror_watch = true;
   // Feel contacts from the wheels, remember them and reverse the way just driven (ExplorerOptions::feel_contacts; on since session 30).
   bool feel_contacts = true;
+  int contact_frames = 2;  // ...on this many steps in a row (ExplorerOptions::contact_frames)
   // Soft points along a blocked-near column's ray from this range on (ObstacleMemoryOptions::blind_points_from_m; 0: off; 0.6).
   double blind_points_from_m = 0.6;
   // A side wall abeam needs another point within this distance (ExplorerOptions::side_wall_cluster_m; 0: nearest point).
@@ -200,6 +201,7 @@ struct ExplorerVariants {
     ro.explorer.setoff_blocked_min_range_m = setoff_blocked_min_range_m;
     ro.explorer.mirror_watch = mirror_watch;
     ro.explorer.feel_contacts = feel_contacts;
+    ro.explorer.contact_frames = contact_frames;
     ro.explorer.memory.blind_points_from_m = blind_points_from_m;
     ro.explorer.side_wall_cluster_m = side_wall_cluster_m;
     ro.explorer.floor_edge_band_mouth = floor_edge_band_mouth;
@@ -332,6 +334,10 @@ struct ExplorerVariants {
                   text("Watch the visual sonar for the robot's own reflection, a disc of its radius that moves as the robot's position mirrored in a plane (it comes nearer at twice the robot's speed), which nothing standing does; where it shows, remember a wall on the mirror's plane that the floor seen through the mirror does not erase: a mirror shows the corridor going on behind its base, and corridor-5's robot weaved into its mirror end (on by default since session 29; docs/explore.md, session 29)"));
     cmd->add_flag("--feel-contacts,!--no-feel-contacts", feel_contacts,
                   text("Feel a contact from the wheels: commanded forward on two steps in a row while odometry shows (almost) no progress, something stands against the disc's front where the camera cannot see it; remember it as a point the floor seen later does not erase, reverse up to 0.1 m along the way just driven (the one reversal that is not blind) and look and choose as at any blockage (on by default since session 30; docs/explore.md, session 30)"));
+    cmd->add_option("--contact-frames", contact_frames,
+                    text("--feel-contacts: how many steps in a row (30 Hz) commanded forward without wheel progress make a contact. The simulator's robot reaches a commanded speed at once; on a real robot cover the drive's spin-up from standstill, or every start is felt as a contact (2 by default)"))
+        ->capture_default_str()
+        ->check(CLI::Range(1, 100));
     cmd->add_option("--blind-points-from", blind_points_from_m,
                     text("A visual-sonar column blocked near is also remembered for 5 s as soft points along its ray from this range (metres) out to the blind range, where the floor was not seen (0: off; 0.6 by default)"))
         ->capture_default_str()

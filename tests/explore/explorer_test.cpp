@@ -1426,7 +1426,8 @@ TEST(Explorer, ABoxInsideABranchIsNotItsFarEdge) {
 // turns in place and sets off into the post again; with it, two steps without wheel progress are
 // a contact: it remembers a point ahead, reverses along the way it came and looks elsewhere.
 TEST(Explorer, AContactFeltFromTheWheelsIsRememberedAndBackedOutOf) {
-  for (const bool rule : {true, false}) {
+  for (const int frames : {2, 6, 0}) {  // steps without progress that make a contact; 0: the rule off
+    const bool rule = frames > 0;
     ToyPlan world;
     world.walls = {{-1, 1, 25, 1}, {-1, -1, 25, -1}, {-1, -1, -1, 1}, {25, -1, 25, 1}};
     world.pose = {1.0, 0.0, 0.0};
@@ -1434,6 +1435,7 @@ TEST(Explorer, AContactFeltFromTheWheelsIsRememberedAndBackedOutOf) {
     const double reach = 0.25 + 0.04;  // the disc's radius plus the post's
     ExplorerOptions o;
     o.feel_contacts = rule;
+    if (rule) o.contact_frames = frames;
     Explorer explorer(o);
     int contact_steps = 0;
     double contact_x = -1.0, min_x_after = 1e9;
@@ -1449,13 +1451,14 @@ TEST(Explorer, AContactFeltFromTheWheelsIsRememberedAndBackedOutOf) {
       }
       if (contact_x >= 0.0) min_x_after = std::min(min_x_after, world.pose.x);
     }
-    ASSERT_GE(contact_x, 0.0) << rule;  // the post was met (the camera cannot see it)
+    ASSERT_GE(contact_x, 0.0) << frames;  // the post was met (the camera cannot see it)
     if (rule) {
       EXPECT_GE(explorer.ContactsFelt(), 1);
       // Each contact is felt on its second step without progress (the toy stops the disc before
       // it overlaps, so a step that meets the post moves nothing).
-      EXPECT_LE(contact_steps, o.contact_frames * explorer.ContactsFelt());
-      EXPECT_LT(min_x_after, contact_x - 0.05);  // reversed the way it came
+      EXPECT_LE(contact_steps, o.contact_frames * explorer.ContactsFelt()) << frames;
+      EXPECT_GE(contact_steps, o.contact_frames) << frames;
+      EXPECT_LT(min_x_after, contact_x - 0.05) << frames;  // reversed the way it came
       bool noted = false;
       for (const ExploreEvent& e : explorer.Events()) noted |= e.note.rfind("contact felt", 0) == 0;
       EXPECT_TRUE(noted);

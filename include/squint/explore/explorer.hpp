@@ -138,6 +138,9 @@ struct ExplorerOptions {
   // unchanged. On by default since session 30 (`squint explore --no-feel-contacts`).
   bool feel_contacts = true;
   double contact_min_v_mps = 0.1;
+  // The simulator's unicycle reaches a commanded speed at once; a real drive needs time to spin
+  // up from standstill, and contact_frames must cover it (`--contact-frames`), or every start is
+  // felt as a contact.
   int contact_frames = 2;
   double contact_max_progress = 0.2;
   double contact_point_gap_m = 0.01;
