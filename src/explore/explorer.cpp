@@ -254,7 +254,7 @@ Command Explorer::Step(const Percept& p) {
     state_ = ExploreState::kAlign;  // look first; scan only when the view is not a corridor
   }
   const Pose2 moved = Between(last_odom_, p.odom_T_robot);
-  UpdateMapPose(p);
+  UpdateMapPose(p, moved);
   memory_.MarkFootprint(p.odom_T_robot, opt_.robot_radius_m, p.stamp_s);  // with guard_unknown_step_m
   UpdateSonar(p);
   NoteWallLinesAhead(p);
@@ -547,8 +547,7 @@ Command Explorer::Guard(const Percept& p, Command cmd) {
   return cmd;
 }
 
-void Explorer::UpdateMapPose(const Percept& p) {
-  const Pose2 delta = Between(last_odom_, p.odom_T_robot);
+void Explorer::UpdateMapPose(const Percept& p, const Pose2& delta) {
   const double ds = delta.x;  // forward travel (signed); unicycle: no sideways motion
   const double yaw = WrapPi(p.odom_T_robot.yaw - map_yaw_offset_);
   const double mid = WrapPi(yaw - 0.5 * delta.yaw);

@@ -650,7 +650,8 @@ class Explorer {
   // Rotates toward target; returns true when there and settled.
   bool Rotate(const Percept& p, Rotation& r, Command& cmd) const;
   void UpdateAxis(const Percept& p);
-  void UpdateMapPose(const Percept& p);
+  // `delta`: the odometry motion since the previous step (Between(last_odom_, p.odom_T_robot)).
+  void UpdateMapPose(const Percept& p, const Pose2& delta);
   void StartFollow(const Percept& p);
   void StartTurnTo(const Percept& p, int dir, int turn_deg, const std::string& note);
   void Decide(const Percept& p);
