@@ -109,6 +109,8 @@ struct ExplorerVariants {
   double wall_lines_hold_s = 1.0;
   // A side whose probe scan shows brick lines in this fraction of its bands is not open by the sonar (ExplorerOptions::probe_max_wall_lines; 0.375 since session 25).
   double probe_max_wall_lines = 0.375;
+  // ...nor, at a corridor's end, open by the remembered points (ExplorerOptions::probe_wall_lines_memory; on since session 31).
+  bool probe_wall_lines_memory = true;
   // An end the sonar reads this close makes the branch ahead a wall whatever the map says
   // (ExplorerOptions::sonar_end_blocks_m; 0: off; 1.0 since session 18).
   double sonar_end_blocks_m = 1.0;
@@ -187,6 +189,7 @@ struct ExplorerVariants {
     ro.explorer.shift_trusts_memory = shift_trusts_memory;
     ro.explorer.wall_lines_hold_s = wall_lines_hold_s;
     ro.explorer.probe_max_wall_lines = probe_max_wall_lines;
+    ro.explorer.probe_wall_lines_memory = probe_wall_lines_memory;
     ro.explorer.sonar_end_blocks_m = sonar_end_blocks_m;
     ro.explorer.known_end_slow_m = known_end_slow_m;
     ro.explorer.known_end_disagree_m = known_end_disagree_m;
@@ -290,6 +293,8 @@ struct ExplorerVariants {
                     text("Probing, a side whose scan shows a brick wall's lines in at least this fraction of its bands is not open by the sonar's free travel (a brick wall inside the blind range reads as floor; 0: off; 0.375 by default since session 25; docs/explore.md, session 25)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
+    cmd->add_flag("--probe-wall-lines-memory,!--no-probe-wall-lines-memory", probe_wall_lines_memory,
+                  text("At a corridor's end, a probed side whose scan shows those brick lines (--probe-wall-lines) is not open by the remembered points either: a brick wall inside the blind range leaves none (on by default since session 31; docs/explore.md, session 31)"));
     cmd->add_option("--sonar-end-blocks", sonar_end_blocks_m,
                     text("An end read by the visual sonar with less free travel ahead than this (metres) makes the branch ahead a wall even where the map holds it explored, so the robot does not go straight on into what it sees (0: off; 1.0 by default since session 18; docs/explore.md, session 18)"))
         ->capture_default_str()

@@ -1500,15 +1500,17 @@ Command Explorer::ProbeStep(const Percept& p) {
   // memory showed an opening while following is also open when the entropy rule says so (from
   // the mouth of a branch the sonar's blind range often holds a wall corner).
   const bool open_by_entropy = h >= opt_.open_entropy_ratio * last_ref_entropy_;
+  const bool brick_facing = opt_.probe_max_wall_lines > 0.0 && p.sonar_wall_lines >= opt_.probe_max_wall_lines;
   const bool open_by_sonar = side_free_m_[probe_phase_] >= opt_.sonar_open_free_m &&
                              h >= opt_.sonar_open_min_entropy_ratio * last_ref_entropy_ &&
-                             !(opt_.blind_side_needs_lines && last_scan_blind_) &&
-                             !(opt_.probe_max_wall_lines > 0.0 && p.sonar_wall_lines >= opt_.probe_max_wall_lines);
+                             !(opt_.blind_side_needs_lines && last_scan_blind_) && !brick_facing;
   // At the end of a corridor, the latest scan's blocked-near columns facing this side may be the
   // near wall of a branch whose mouth the robot stands off-centre in (an L corner reached along
   // its end wall): with end_probe_memory, a side the entropy rule calls open is open where the
-  // remembered points alone leave it free.
+  // remembered points alone leave it free, unless the scan facing it shows a brick wall's lines
+  // (probe_wall_lines_memory: such a wall inside the blind range leaves no point to remember).
   const bool open_by_memory = opt_.end_probe_memory && probe_at_end_ && sonar_seen_ && open_by_entropy &&
+                              !(opt_.probe_wall_lines_memory && brick_facing) &&
                               memory_.FreeTravel(p.odom_T_robot, rot_.target_yaw, opt_.robot_radius_m + opt_.safety_margin_m,
                                                  opt_.lookahead_m + 1.0, false, true) >= opt_.sonar_open_free_m;
   // Where the floor has the walls' grey: the walls' lines show the side's corridor free.

@@ -154,7 +154,8 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
 
 // Session 19's five rules, session 20's --blind-texture-keep-ref, session 21's --blocked-hold,
 // session 22's two, session 23's two, session 26's --far-floor-diff, session 28's
-// --setoff-blocked-min-range, session 29's --mirror-watch and session 30's --feel-contacts, each switched off (and session 27's
+// --setoff-blocked-min-range, session 29's --mirror-watch, session 30's --feel-contacts and session 31's
+// --probe-wall-lines-memory, each switched off (and session 27's
 // --blocked-min-range and --settled-blocked-min-range at their defaults), but for the one named
 // (so a test of one replays its case as it was found, with the others as they were then);
 // LaterRulesOffBut("") switches them all off.
@@ -171,6 +172,7 @@ std::string LaterRulesOffBut(const std::string& keep) {
                                                                   {"--shift-trusts-memory", " --no-shift-trusts-memory"},
                                                                   {"--wall-lines-hold", " --wall-lines-hold 0"},
                                                                   {"--probe-wall-lines", " --probe-wall-lines 0"},
+                                                                  {"--probe-wall-lines-memory", " --no-probe-wall-lines-memory"},
                                                                   {"--far-floor-diff", " --far-floor-diff 0"},
                                                                   {"--blocked-min-range", " --blocked-min-range 0.6"},
                                                                   {"--settled-blocked-min-range", " --settled-blocked-min-range 0"},
@@ -476,6 +478,25 @@ TEST(ExploreCli, AContactFeltFromTheWheelsIsNotPushedIntoAgain) {
   EXPECT_GE(on["contacts_felt"].get<long>(), 1);
   EXPECT_LE(on["collisions"].get<long>(), 2 * on["contacts_felt"].get<long>());
   EXPECT_NEAR(on["first_collision_s"].get<double>(), off["first_collision_s"].get<double>(), 1e-9);  // the same first contact
+  std::filesystem::remove_all(dir);
+}
+
+// corridor-9 (brick walls, carpet; the camera sees no floor nearer than 1.28 m), seeded start 7
+// of seed 38: the robot takes an end 2.2 m before the T and probes with the brick side wall 0.68 m
+// away. Its scan shows the mortar lines in every band (so the sonar's free travel does not open
+// that side, --probe-wall-lines) and an entropy at the open threshold, and the memory holds
+// nothing there (the wall is inside the blind range), so --end-probe-memory opened it and the
+// robot turned into the wall at 40.7 s. With --probe-wall-lines-memory (the default since session
+// 31) the lines keep the memory from opening it: the robot turns around and meets nothing.
+TEST(ExploreCli, BrickLinesKeepTheMemoryFromOpeningAWallAtAnEnd) {
+  const auto dir = TempDir("probe-wall-lines-memory");
+  const std::string start = "--world corridor-9 --seed 38 --eval-start 7 --minutes 1";
+  const nlohmann::json off = ExploreSummary(dir / "off", start + " --no-probe-wall-lines-memory");
+  EXPECT_GT(off["collisions"].get<long>(), 0);
+  EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
+  const nlohmann::json on = ExploreSummary(dir / "on", start);
+  EXPECT_EQ(on["collisions"].get<long>(), 0);
+  EXPECT_EQ(on["first_hit"].get<std::string>(), "");
   std::filesystem::remove_all(dir);
 }
 

@@ -754,9 +754,11 @@ TEST(Explorer, OpeningBesideAJunctionJudgedAWallIsLookedAt) {
 // memory holds nothing there and the free travel to that side is full); the robot drives to the
 // corner and probes. Returns the corner node's south (the unseen wall) and north (the branch)
 // branches after the first turn.
-std::pair<Branch, Branch> UnseenWallLCorner(const ExplorerOptions& o, bool brick) {
+// south_y: the unseen wall's line (-1: 1 m from the robot's line, whose glance then reads a wall's entropy facing it).
+std::pair<Branch, Branch> UnseenWallLCorner(const ExplorerOptions& o, bool brick, double south_y = -1.0) {
   ToyPlan world;
-  world.walls = {{-1, -1, 25, -1, false}, {-1, 1, 21.5, 1}, {-1, -1, -1, 1}, {25, -1, 25, 12}, {21.5, 1, 21.5, 12}, {21.5, 12, 25, 12}};
+  world.walls = {{-1, south_y, 25, south_y, false}, {-1, 1, 21.5, 1},   {-1, south_y, -1, 1},
+                 {25, south_y, 25, 12},             {21.5, 1, 21.5, 12}, {21.5, 12, 25, 12}};
   world.walls[0].brick = brick;
   world.pose = {1.0, 0.0, 0.0};
   Explorer explorer(o);
@@ -795,6 +797,22 @@ TEST(Explorer, SideFreeBySonarButShowingBrickLinesIsAWall) {
     o.probe_max_wall_lines = lines;
     const auto [south, north] = UnseenWallLCorner(o, true);
     EXPECT_EQ(south, lines > 0.0 ? Branch::kWall : Branch::kOpen);
+    EXPECT_EQ(north, Branch::kOpen);
+  }
+}
+
+// The unseen brick wall 2 m from the robot's line, where the glance's entropy facing it is a
+// corridor's: probing at the corridor's end, the sonar's free travel does not open that side (its
+// lines, probe_max_wall_lines), but the remembered points alone leave it free (end_probe_memory:
+// nothing was ever seen there), and the robot turned into the wall. With probe_wall_lines_memory
+// the lines keep the memory from opening it too (corridor-9, start 7 of seed 38).
+TEST(Explorer, BrickLinesAlsoKeepTheMemoryFromOpeningASideAtAnEnd) {
+  for (const bool veto : {false, true}) {
+    SCOPED_TRACE(veto);
+    ExplorerOptions o;
+    o.probe_wall_lines_memory = veto;
+    const auto [south, north] = UnseenWallLCorner(o, true, -2.0);
+    EXPECT_EQ(south, veto ? Branch::kWall : Branch::kOpen);
     EXPECT_EQ(north, Branch::kOpen);
   }
 }

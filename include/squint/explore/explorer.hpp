@@ -350,6 +350,12 @@ struct ExplorerOptions {
   // seeds 1-4's 4,227 probes had more than 0.25. 0 turns it off (`squint explore --probe-wall-lines
   // 0`); 0.375 since session 25 (docs/explore.md).
   double probe_max_wall_lines = 0.375;
+  // ...nor, at a corridor's end, open by the remembered points (end_probe_memory): a brick wall
+  // inside the blind range leaves no point in the memory, and corridor-9's robot, stopped 2.2 m
+  // before its T with the brick side wall 0.68 m away (lines 1.0, entropy 1.91 of the reference's
+  // 2.22 where 1.89 is open), turned into it (start 7 of seed 38). On by default since session 31
+  // (`squint explore --no-probe-wall-lines-memory`; docs/explore.md, session 31).
+  bool probe_wall_lines_memory = true;
   bool scan_blind_start = true;  // see start_corridor_entropy_nats
   // An end read by the sonar with less than this free travel along the axis (metres) makes the
   // branch ahead a wall even where the map holds it explored (the robot came that way before): it
