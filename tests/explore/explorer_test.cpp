@@ -804,8 +804,9 @@ TEST(Explorer, SideFreeBySonarButShowingBrickLinesIsAWall) {
 // The unseen brick wall 2 m from the robot's line, where the glance's entropy facing it is a
 // corridor's: probing at the corridor's end, the sonar's free travel does not open that side (its
 // lines, probe_max_wall_lines), but the remembered points alone leave it free (end_probe_memory:
-// nothing was ever seen there), and the robot turned into the wall. With probe_wall_lines_memory
-// the lines keep the memory from opening it too (corridor-9, start 7 of seed 38).
+// nothing was ever seen there), so the side is called open (in corridor-9, start 7 of seed 38,
+// the robot then turned into the wall). With probe_wall_lines_memory the lines keep the memory
+// from opening it too.
 TEST(Explorer, BrickLinesAlsoKeepTheMemoryFromOpeningASideAtAnEnd) {
   for (const bool veto : {false, true}) {
     SCOPED_TRACE(veto);
