@@ -140,6 +140,8 @@ struct ExplorerVariants {
   double settled_blocked_min_range_m = 0.0;
   // ...and this far from a start or scan until 1.6 m of following or a turn (ExplorerOptions::setoff_blocked_min_range_m; 0: off; 0.45 since session 28).
   double setoff_blocked_min_range_m = 0.45;
+  // ...and the vertical edges ranged by the travel's parallax (ExplorerOptions::setoff_near_edges; on since session 32).
+  bool setoff_near_edges = true;
   // Watch for the robot's own reflection and remember a wall on the mirror (ExplorerOptions::mirror_watch; on since session 29).
   bool mirror_watch = true;
   // Feel contacts from the wheels, remember them and reverse the way just driven (ExplorerOptions::feel_contacts; on since session 30).
@@ -202,6 +204,7 @@ struct ExplorerVariants {
     ro.explorer.memory.blocked_min_range_m = blocked_min_range_m;
     ro.explorer.settled_blocked_min_range_m = settled_blocked_min_range_m;
     ro.explorer.setoff_blocked_min_range_m = setoff_blocked_min_range_m;
+    ro.explorer.setoff_near_edges = setoff_near_edges;
     ro.explorer.mirror_watch = mirror_watch;
     ro.explorer.feel_contacts = feel_contacts;
     ro.explorer.contact_frames = contact_frames;
@@ -335,6 +338,8 @@ struct ExplorerVariants {
                     text("From a start or a recovery scan until following has come 1.6 m along the corridor set off into (or the first turn), a blocked-near column's sector assumes a thing this far away instead of --blocked-min-range: the robot knows nothing of the floor it never saw, and a column 0.36 m from the disc's flank and a corner 0.38 m away were met setting off (metres; 0: off; 0.45 by default since session 28: seeded starts 3 of 4,120 runs meet something against 5, the 45-minute traces of the main job's world unchanged; docs/explore.md, session 28)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 5.0));
+    cmd->add_flag("--setoff-near-edges,!--no-setoff-near-edges", setoff_near_edges,
+                  text("While --setoff-blocked-min-range holds, range the vertical edges of the visual sonar's frame above the horizon by the parallax of the robot's own travel, and remember those inside the blind range beside columns that show no floor step as points that floor seen later does not erase: a robot started 0.35 m from corridor-9's convex corner, whose painted face has the floor's grey, knew something stood there but not how near, and met it with its flank (on by default since session 32; docs/explore.md, session 32)"));
     cmd->add_flag("--mirror-watch,!--no-mirror-watch", mirror_watch,
                   text("Watch the visual sonar for the robot's own reflection, a disc of its radius that moves as the robot's position mirrored in a plane (it comes nearer at twice the robot's speed), which nothing standing does; where it shows, remember a wall on the mirror's plane that the floor seen through the mirror does not erase: a mirror shows the corridor going on behind its base, and corridor-5's robot weaved into its mirror end (on by default since session 29; docs/explore.md, session 29)"));
     cmd->add_flag("--feel-contacts,!--no-feel-contacts", feel_contacts,
@@ -449,10 +454,11 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
   // The columns after `proceeded` (empty when nothing was measured) are against ground truth: see
   // ExploreSummary's setoff_*, axis_error_* and first_* (the first contact and what it touched);
   // mirror_scans counts the sonar scans that showed the robot's own reflection (--mirror-watch);
-  // contacts_felt the contacts the robot felt from its wheels (--feel-contacts).
+  // contacts_felt the contacts the robot felt from its wheels (--feel-contacts); near_edges the edges
+  // ranged inside the blind range while setting off (--setoff-near-edges).
   std::string csv =
       "world,start,x_m,y_m,yaw_deg,sim_seconds,distance_m,coverage,ends_detected,turns,collisions,proceeded,"
-      "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg,first_collision_s,first_hit,mirror_scans,contacts_felt\n";
+      "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg,first_collision_s,first_hit,mirror_scans,contacts_felt,near_edges\n";
   std::map<std::string, int> first_hits;  // world: what, -> runs whose first contact it was
   int total_collisions = 0, runs = 0, clean = 0;
   int off_axis_runs = 0, setoff_off = 0;  // runs with following frames; set-offs more than 10° off the axis
@@ -482,7 +488,7 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
              std::to_string(s.collisions) + "," + (s.proceeded ? "1" : "0") + "," + Cell(s.setoff_seconds, 2) + "," +
              Cell(s.setoff_axis_error_deg, 2) + "," + Cell(s.axis_error_p90_deg, 2) + "," + Cell(s.axis_error_over_10deg, 4) +
              "," + Cell(s.first_collision_s, 2) + "," + CsvText(s.first_hit) + "," + std::to_string(s.mirror_scans) + "," +
-             std::to_string(s.contacts_felt) + "\n";
+             std::to_string(s.contacts_felt) + "," + std::to_string(s.near_edges) + "\n";
       if (!s.first_hit.empty()) ++first_hits[world.name + ": " + s.first_hit];
       if (std::isfinite(s.axis_error_over_10deg)) {
         off_axis_sum += s.axis_error_over_10deg;

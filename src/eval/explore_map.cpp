@@ -148,6 +148,7 @@ std::string SummaryJson(const ExploreSummary& s) {
   j["mirror_scans"] = s.mirror_scans;
   // Contacts the robot felt from its wheels (`--feel-contacts`; 0 when off).
   j["contacts_felt"] = s.contacts_felt;
+  j["near_edges"] = s.near_edges;
   // The first contact (null / empty without one): when, the robot's true position, what it
   // touched ("wall" or the world file's entry).
   j["first_collision_s"] = num(s.first_collision_s);

@@ -290,6 +290,7 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
       p.sonar = &sonar->Process(sv);
       p.sonar_near_blind_m = sonar->NearBlindRangeM();
       p.sonar_wall_lines = sonar->WallLineFraction();
+      p.sonar_profile = &sonar->HorizonProfile();
       perception_cpu += ThreadCpuSeconds() - cpu1;
     }
     // The obstacle pipeline, only while following (a pair needs forward motion; turning in place
@@ -410,6 +411,7 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   s.obstacle_stops = explorer.ObstacleStops();
   s.mirror_scans = explorer.MirrorsFound();
   s.contacts_felt = explorer.ContactsFelt();
+  s.near_edges = explorer.NearEdgesRanged();
   if (!axis_errors.empty()) {
     const auto p90 = axis_errors.begin() + static_cast<std::ptrdiff_t>(0.9 * static_cast<double>(axis_errors.size() - 1));
     std::nth_element(axis_errors.begin(), p90, axis_errors.end());

@@ -133,6 +133,7 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(setoff_blocked_min_range_m)) return "setoff_blocked_min_range_m must be >= 0";
   if (!(mirror_wall_half_span_m > 0.0 && mirror_wall_half_span_m <= 10.0)) return "mirror_wall_half_span_m must be in (0, 10]";
   if (const std::string e = mirror.Validate(); !e.empty()) return e;
+  if (const std::string e = near_edges.Validate(); !e.empty()) return "near_edges." + e;
   if (!(probe_max_wall_lines >= 0.0 && probe_max_wall_lines <= 1.0)) return "probe_max_wall_lines must be in [0, 1]";
   if (!(trust_memory_max_wall_lines >= 0.0 && trust_memory_max_wall_lines <= 1.0)) return "trust_memory_max_wall_lines must be in [0, 1]";
   if (!(blind_view_fraction > 0.0 && blind_view_fraction <= 1.0)) return "blind_view_fraction must be in (0, 1]";
@@ -210,7 +211,8 @@ MirrorWatchOptions MirrorOptions(const ExplorerOptions& o) {
 }  // namespace
 
 Explorer::Explorer(const ExplorerOptions& options)
-    : opt_(options), map_(options.map), memory_(MemoryOptions(options)), mirror_(MirrorOptions(options)) {
+    : opt_(options), map_(options.map), memory_(MemoryOptions(options)), mirror_(MirrorOptions(options)),
+      near_edge_ranger_(options.near_edges) {
   const std::string err = opt_.Validate();
   SQUINT_ENSURE(err.empty(), "ExplorerOptions: " + err);
   ref_entropy_.reserve(static_cast<std::size_t>(opt_.reference_window));
@@ -373,6 +375,34 @@ void Explorer::UpdateSonar(const Percept& p) {
   }
   last_scan_blind_ = blind_view;
   memory_.Update(*scan, p.odom_T_robot, p.stamp_s, p.sonar_near_blind_m);
+  // Setting off, a vertical edge ranged inside the blind range by the robot's own travel.
+  if (opt_.setoff_near_edges && setting_off_ && opt_.setoff_blocked_min_range_m > 0.0 && p.sonar_profile != nullptr &&
+      p.sonar_profile->size() == p.sonar->size() && p.sonar->size() >= 4) {
+    edge_bearings_.resize(p.sonar->size());
+    for (std::size_t i = 0; i < p.sonar->size(); ++i) edge_bearings_[i] = (*p.sonar)[i].bearing_rad;
+    const int n = static_cast<int>(p.sonar->size());
+    // Columns that see no floor step: blocked near, or unknown (a face of the floor's grey).
+    auto hidden = [&](int i) {
+      const SonarReturn k = (*p.sonar)[static_cast<std::size_t>(std::clamp(i, 0, n - 1))].kind;
+      return k == SonarReturn::kBlockedNear || k == SonarReturn::kUnknown;
+    };
+    for (const NearEdge& e : near_edge_ranger_.Process(*p.sonar_profile, edge_bearings_, p.odom_T_robot)) {
+      if (e.range_m > p.sonar_near_blind_m) continue;
+      // Something standing inside the blind range hides the floor in its own columns: on one
+      // side of the edge at least two of the three nearest columns show no floor step.
+      const int c = static_cast<int>(std::lround(e.column));
+      int left = 0, right = 0;
+      for (int k = 1; k <= 3; ++k) {
+        left += hidden(c - k) ? 1 : 0;
+        right += hidden(c + k) ? 1 : 0;
+      }
+      if (std::max(left, right) < 2) continue;
+      memory_.InsertConfirmed(e.point, p.stamp_s);
+      ++near_edges_ranged_;
+    }
+  } else {
+    near_edge_ranger_.Reset();
+  }
   if (opt_.mirror_watch && mirror_.Update(*p.sonar, p.odom_T_robot, p.stamp_s)) {
     const Mirror& m = mirror_.Latest();
     const Eigen::Vector2d along(-m.normal.y(), m.normal.x());

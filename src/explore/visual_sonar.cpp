@@ -73,6 +73,7 @@ VisualSonar::VisualSonar(const CameraModel& camera, const VisualSonarOptions& op
   reference_floor_rows_ = options_.min_floor_rows + 3;
   band_rows_.assign(static_cast<std::size_t>(h), 0.0);
   line_.assign(static_cast<std::size_t>(h), 0.0);
+  horizon_profile_.assign(static_cast<std::size_t>(w), 0.0f);
 }
 
 void VisualSonar::MeasureWallLines(GrayView image) {
@@ -169,6 +170,15 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
                 "visual sonar: the frame must be " + std::to_string(w) + "x" + std::to_string(h));
   const float thr = static_cast<float>(options_.step_threshold);
   MeasureWallLines(image);
+  {
+    const int rows = std::min(h, top_row_ + 1);
+    std::fill(horizon_profile_.begin(), horizon_profile_.end(), 0.0f);
+    for (int v = 0; v < rows; ++v) {
+      const std::uint8_t* row = image.Row(v);
+      for (int u = 0; u < w; ++u) horizon_profile_[static_cast<std::size_t>(u)] += row[u];
+    }
+    for (float& g : horizon_profile_) g /= static_cast<float>(rows);
+  }
   for (int u = 0; u < w; ++u) {
     const int u0 = std::max(0, u - options_.column_half_width);
     const int u1 = std::min(w - 1, u + options_.column_half_width);

@@ -152,6 +152,7 @@ struct ExploreSummary {
   int obstacle_stops = 0;
   int mirror_scans = 0;  // sonar scans that showed the robot's own reflection (--mirror-watch)
   int contacts_felt = 0;  // contacts felt from the wheels (--feel-contacts)
+  long near_edges = 0;    // edges ranged inside the blind range while setting off (--setoff-near-edges)
   double ipt_cpu_seconds = 0.0;  // part of perception_cpu_seconds
   // How well the explorer knew the corridor's axis (ground truth, not used by the loop): at the
   // first set-off (the end of the start-up alignment or scan) and over the frames spent following

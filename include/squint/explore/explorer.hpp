@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "squint/explore/mirror_watch.hpp"
+#include "squint/explore/near_edges.hpp"
 #include "squint/explore/obstacle_memory.hpp"
 #include "squint/explore/percept.hpp"
 #include "squint/explore/topo_map.hpp"
@@ -298,6 +299,16 @@ struct ExplorerOptions {
   // something against 5; the main job's and `default`'s 45-minute traces are unchanged
   // (`squint explore --setoff-blocked-min-range M`; docs/explore.md, session 28).
   double setoff_blocked_min_range_m = 0.45;
+  // While setoff_blocked_min_range_m holds (from a start or scan until 1.6 m of following or a
+  // turn), range the vertical edges the sonar frame shows above the horizon by the parallax of
+  // the robot's own travel (NearEdgeRanger: two pairs of frames that must agree) and remember
+  // those found within the blind range, beside sonar columns that show no floor step (two of the
+  // three nearest on one side), as points that floor seen later does not erase. A robot started 0.35 m from corridor-9's convex
+  // corner, whose painted face has the floor's grey, knew the corner was there but not how near:
+  // it turned away until the face left the view and met the corner with its flank
+  // (`squint explore --no-setoff-near-edges`; docs/explore.md, session 32).
+  bool setoff_near_edges = true;
+  NearEdgeOptions near_edges;
   // Watch the visual sonar for the robot's own reflection (MirrorWatch: a disc of the robot's
   // radius that moves as the robot's position mirrored in a plane, not as anything standing
   // does) and, where it shows, remember a wall on the mirror's plane (confirmed points, which
@@ -637,6 +648,8 @@ class Explorer {
   long BlindTextureColumns() const { return blind_texture_kept_; }
   // Sonar scans that showed the robot's own reflection (mirror_watch).
   int MirrorsFound() const { return mirror_.Found(); }
+  // Vertical edges ranged inside the blind range while setting off (setoff_near_edges).
+  long NearEdgesRanged() const { return near_edges_ranged_; }
   // Contacts felt from the wheels (feel_contacts).
   int ContactsFelt() const { return contacts_felt_; }
 
@@ -895,6 +908,9 @@ class Explorer {
   // Visual sonar.
   ObstacleMemory memory_;
   MirrorWatch mirror_;
+  NearEdgeRanger near_edge_ranger_;
+  std::vector<double> edge_bearings_;
+  long near_edges_ranged_ = 0;
   std::vector<SonarColumn> sonar_copy_;  // a scan with blocked-near columns read as unknown (blind view)
   long blind_views_ = 0;
   bool view_is_wall_ = false;  // this step's sonar view read as a wall filling the view

@@ -125,6 +125,10 @@ class VisualSonar {
   // Fraction of the last frame's column bands showing periodic horizontal lines (see the
   // wall_line_* options): near 1 for a brick wall filling the view.
   double WallLineFraction() const { return wall_line_fraction_; }
+  // The last frame's grey level per column (no averaging across columns), the mean of its rows
+  // above the horizon: what stands up through the camera's height (walls, their corners and
+  // edges), never the floor.
+  const std::vector<float>& HorizonProfile() const { return horizon_profile_; }
 
  private:
   // The lowest row above `base` where something other than the region starting at `base` begins
@@ -152,6 +156,7 @@ class VisualSonar {
   std::vector<double> band_rows_;   // one band's row means
   std::vector<double> line_;        // one band's detrended line profile
   double wall_line_fraction_ = 0.0;
+  std::vector<float> horizon_profile_;
 };
 
 }  // namespace squint::explore
