@@ -303,10 +303,10 @@ struct ExplorerOptions {
   // turn), range the vertical edges the sonar frame shows above the horizon by the parallax of
   // the robot's own travel (NearEdgeRanger: two pairs of frames that must agree) and remember
   // those found within the blind range, beside sonar columns that show no floor step (two of the
-  // three nearest on one side), as points that floor seen later does not erase. A robot started 0.35 m from corridor-9's convex
-  // corner, whose painted face has the floor's grey, knew the corner was there but not how near:
-  // it turned away until the face left the view and met the corner with its flank
-  // (`squint explore --no-setoff-near-edges`; docs/explore.md, session 32).
+  // three nearest on one side), as points that floor seen later does not erase. A robot started
+  // 0.35 m from corridor-9's convex corner, whose painted face has the floor's grey, knew the
+  // corner was there but not how near: it turned away until the face left the view and met the
+  // corner with its flank (`squint explore --no-setoff-near-edges`; docs/explore.md, session 32).
   bool setoff_near_edges = true;
   NearEdgeOptions near_edges;
   // Watch the visual sonar for the robot's own reflection (MirrorWatch: a disc of the robot's

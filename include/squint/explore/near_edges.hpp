@@ -3,12 +3,12 @@
 // The visual sonar ranges what stands on the floor by where its base meets the floor, so inside
 // the camera's blind range (no floor in view: 1.28 m for corridor-9's camera) it knows only that
 // something is there, not how near. A wall's vertical edge seen through the camera's height shows
-// as a step in grey level between neighbouring columns of the frame's rows about the horizon
+// as a step in grey level between neighbouring columns of the frame's rows above the horizon
 // (VisualSonar::HorizonProfile). Turning in place moves every edge by the turn alone (the camera
 // turns about its own foot); driving moves an edge by an angle that grows as it comes nearer. Two
 // frames (the latest and one of the last `history` frames taken min_baseline_m to
-// max_baseline_m from it, facing within max_turn_rad of it), with the same edge found in both (the same sign of step and the grey levels on each side within
-// level_tolerance, the only such edge within match_window_rad of the bearing the second frame
+// max_baseline_m from it, facing within max_turn_rad of it), with the same edge found in both
+// (the same sign of step and the grey levels on each side within level_tolerance, the only such edge within match_window_rad of the bearing the second frame
 // predicts for a far edge), give the edge's position by intersecting the two rays. Edges ranged
 // between min_range_m and max_range_m, even with the angle the edge moved through reduced by
 // angle_noise_rad, and alike (agree_fraction) when paired with the oldest and with the newest
@@ -57,11 +57,12 @@ class NearEdgeRanger {
 
   // One frame: `profile` the grey level per column (HorizonProfile), `bearings` each column's
   // bearing (left positive, the same length), taken at `odom_T_robot`. Returns the edges ranged
-  // against the newest kept frame that qualifies (none: empty); the frame is then kept. Throws
-  // squint::Error when the sizes differ or are below 4 columns.
+  // alike against the oldest and the newest kept frames that qualify (empty when fewer than two
+  // do); the frame is then kept. Throws std::logic_error (SQUINT_ENSURE) when the sizes differ
+  // or are below 4 columns.
   const std::vector<NearEdge>& Process(const std::vector<float>& profile, const std::vector<double>& bearings,
                                        const Pose2& odom_T_robot);
-  // Forgets the kept frame.
+  // Forgets the kept frames.
   void Reset() { history_.clear(); }
 
  private:

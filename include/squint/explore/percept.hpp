@@ -59,7 +59,7 @@ struct Percept {
   const std::vector<SonarColumn>* sonar = nullptr;
   double sonar_near_blind_m = 0.0;  // the sonar's blind range (nothing nearer is seen)
   double sonar_wall_lines = 0.0;    // the sonar frame's fraction of bands with periodic horizontal lines (brick)
-  // The sonar frame's grey level per column about the horizon (VisualSonar::HorizonProfile), with
+  // The sonar frame's grey level per column above the horizon (VisualSonar::HorizonProfile), with
   // the scan; valid during Step() only.
   const std::vector<float>* sonar_profile = nullptr;
 };
