@@ -142,6 +142,8 @@ struct ExplorerVariants {
   double setoff_blocked_min_range_m = 0.45;
   // ...and the vertical edges ranged by the travel's parallax (ExplorerOptions::setoff_near_edges; on since session 32).
   bool setoff_near_edges = true;
+  // ...and the held near edges out of the view where the robot still stands (ExplorerOptions::setoff_standing_hold_m; 0: off, the default).
+  double setoff_standing_hold_m = 0.0;
   // Watch for the robot's own reflection and remember a wall on the mirror (ExplorerOptions::mirror_watch; on since session 29).
   bool mirror_watch = true;
   // Feel contacts from the wheels, remember them and reverse the way just driven (ExplorerOptions::feel_contacts; on since session 30).
@@ -205,6 +207,7 @@ struct ExplorerVariants {
     ro.explorer.settled_blocked_min_range_m = settled_blocked_min_range_m;
     ro.explorer.setoff_blocked_min_range_m = setoff_blocked_min_range_m;
     ro.explorer.setoff_near_edges = setoff_near_edges;
+    ro.explorer.setoff_standing_hold_m = setoff_standing_hold_m;
     ro.explorer.mirror_watch = mirror_watch;
     ro.explorer.feel_contacts = feel_contacts;
     ro.explorer.contact_frames = contact_frames;
@@ -340,6 +343,10 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 5.0));
     cmd->add_flag("--setoff-near-edges,!--no-setoff-near-edges", setoff_near_edges,
                   text("While --setoff-blocked-min-range holds, range the vertical edges of the visual sonar's frame above the horizon by the parallax of the robot's own travel, and remember those inside the blind range beside columns that show no floor step as points that floor seen later does not erase: a robot started 0.35 m from corridor-9's convex corner, whose painted face has the floor's grey, knew something stood there but not how near, and met it with its flank (on by default since session 32; docs/explore.md, session 32)"));
+    cmd->add_option("--setoff-standing-hold", setoff_standing_hold_m,
+                    text("While --setoff-blocked-min-range holds, the blocked-near columns of a near thing's edge (a run of them that ends in floor running far, not beside a floor step near the blind range) held over the last half second (--blocked-hold) count outside the latest view too where they were seen within this distance of where the robot stands: turning in place, it has not moved away from them. A robot started 0.35 m from corridor-9's convex corner turned away from it until the corner left the view, drove off and met it with its flank; 0.02 clears that start, but the obstacle course's start 1 of seed 4 then turns away from an edge on one side into a column on the other (metres; 0: off, the default; docs/explore.md, session 33)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("--mirror-watch,!--no-mirror-watch", mirror_watch,
                   text("Watch the visual sonar for the robot's own reflection, a disc of its radius that moves as the robot's position mirrored in a plane (it comes nearer at twice the robot's speed), which nothing standing does; where it shows, remember a wall on the mirror's plane that the floor seen through the mirror does not erase: a mirror shows the corridor going on behind its base, and corridor-5's robot weaved into its mirror end (on by default since session 29; docs/explore.md, session 29)"));
     cmd->add_flag("--feel-contacts,!--no-feel-contacts", feel_contacts,

@@ -131,6 +131,7 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(trust_memory_after_m)) return "trust_memory_after_m must be >= 0";
   if (!NonNegative(settled_blocked_min_range_m)) return "settled_blocked_min_range_m must be >= 0";
   if (!NonNegative(setoff_blocked_min_range_m)) return "setoff_blocked_min_range_m must be >= 0";
+  if (!(setoff_standing_hold_m >= 0.0 && setoff_standing_hold_m <= 1.0)) return "setoff_standing_hold_m must be in [0, 1]";
   if (!(mirror_wall_half_span_m > 0.0 && mirror_wall_half_span_m <= 10.0)) return "mirror_wall_half_span_m must be in (0, 10]";
   if (const std::string e = mirror.Validate(); !e.empty()) return e;
   if (const std::string e = near_edges.Validate(); !e.empty()) return "near_edges." + e;
@@ -504,8 +505,10 @@ double Explorer::Free(const Percept& p, double yaw, double max_m) const {
                        travel_in_corridor_m_ >= opt_.trust_memory_after_m;
   double min_range_m = settled ? opt_.settled_blocked_min_range_m : 0.0;
   if (setting_off_ && opt_.setoff_blocked_min_range_m > 0.0) min_range_m = opt_.setoff_blocked_min_range_m;
+  // Setting off where it stands, the robot keeps the blockages it held out of the view too.
+  const double standing_m = setting_off_ ? opt_.setoff_standing_hold_m : 0.0;
   return memory_.FreeTravel(p.odom_T_robot, yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m, use_blocked,
-                            seen_free_exempts, min_range_m);
+                            seen_free_exempts, min_range_m, standing_m);
 }
 
 double Explorer::FreeAcross(const Percept& p, double side_yaw, double line_m) const {

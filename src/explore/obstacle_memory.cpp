@@ -28,6 +28,7 @@ std::string ObstacleMemoryOptions::Validate() const {
   if (!(blocked_hold_s >= 0.0 && blocked_hold_s <= 60.0)) return "blocked_hold_s must be in [0, 60]";
   if (blocked_hold_min_columns < 1 || blocked_hold_min_columns > 1000) return "blocked_hold_min_columns must be in [1, 1000]";
   if (blocked_hold_scans < 1 || blocked_hold_scans > 100) return "blocked_hold_scans must be in [1, 100]";
+  if (!(blocked_edge_step_m >= 0.0 && blocked_edge_step_m <= 100.0)) return "blocked_edge_step_m must be in [0, 100]";
   return {};
 }
 
@@ -235,6 +236,25 @@ bool ObstacleMemory::SeenFree(const Eigen::Vector2d& origin, double yaw, double 
   return true;
 }
 
+std::vector<char> ObstacleMemory::NearEdgeRuns(const std::vector<SonarColumn>& scan, double step_within_m) {
+  std::vector<char> edge(scan.size(), 0);
+  const auto step_near = [&](std::size_t k) {
+    return scan[k].kind == SonarReturn::kBoundary && scan[k].range_m < step_within_m;
+  };
+  for (std::size_t i = 0; i < scan.size();) {
+    if (scan[i].kind != SonarReturn::kBlockedNear) {
+      ++i;
+      continue;
+    }
+    std::size_t j = i;  // the run is columns i..j
+    while (j + 1 < scan.size() && scan[j + 1].kind == SonarReturn::kBlockedNear) ++j;
+    const char e = !(i > 0 && step_near(i - 1)) && !(j + 1 < scan.size() && step_near(j + 1)) ? 1 : 0;
+    std::fill(edge.begin() + static_cast<std::ptrdiff_t>(i), edge.begin() + static_cast<std::ptrdiff_t>(j + 1), e);
+    i = j + 1;
+  }
+  return edge;
+}
+
 void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& odom_T_robot, double stamp_s,
                             double near_blind_m) {
   const Eigen::Vector2d o = odom_T_robot.Translation();
@@ -242,11 +262,16 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
   if (options_.blocked_hold_s > 0.0) {
     // The scan before this one joins the held ones; those older than the hold go.
     if (n_blocked_ >= options_.blocked_hold_min_columns)
-      held_.push_back({std::vector<double>(blocked_yaws_.begin(), blocked_yaws_.begin() + n_blocked_), blocked_from_,
+      held_.push_back({std::vector<double>(blocked_yaws_.begin(), blocked_yaws_.begin() + n_blocked_),
+                       std::vector<char>(blocked_edge_.begin(), blocked_edge_.begin() + n_blocked_), blocked_from_,
                        blocked_range_m_, blocked_stamp_s_});
     while (!held_.empty() && stamp_s - held_.front().stamp_s > options_.blocked_hold_s) held_.pop_front();
   }
   if (blocked_yaws_.size() < scan.size()) blocked_yaws_.resize(scan.size());
+  if (blocked_edge_.size() < scan.size()) blocked_edge_.resize(scan.size());
+  // Which blocked-near columns belong to a near thing's edge (blocked_edge_step_m): runs of them
+  // whose neighbours show no floor step near the blind range.
+  const std::vector<char> edge = NearEdgeRuns(scan, near_blind_m + options_.blocked_edge_step_m);
   n_blocked_ = 0;
   n_columns_ = static_cast<int>(scan.size());
   blocked_from_ = o;
@@ -264,7 +289,8 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
     view_centre_yaw_ = odom_T_robot.yaw + 0.5 * (lo + hi);
     view_half_rad_ = 0.5 * (hi - lo) + pad;
   }
-  for (const SonarColumn& c : scan) {
+  for (std::size_t ci = 0; ci < scan.size(); ++ci) {
+    const SonarColumn& c = scan[ci];
     const double yaw = odom_T_robot.yaw + c.bearing_rad;
     // How far this column's own reading proves the floor (clear_own_within_m): up to its own
     // step, or nowhere when it was itself blocked near.
@@ -279,6 +305,7 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
       case SonarReturn::kBlockedNear:
         // Something nearer than the blind range, at an unknown distance: not remembered (it
         // would block later paths wherever it is put), but held as the latest scan's blockage.
+        blocked_edge_[static_cast<std::size_t>(n_blocked_)] = edge[ci];
         blocked_yaws_[static_cast<std::size_t>(n_blocked_++)] = yaw;
         InsertBlindRay(o, yaw, near_blind_m, stamp_s);
         break;
@@ -324,7 +351,8 @@ void ObstacleMemory::Gather(const Pose2& odom_T_robot, double stamp_s) {
 }
 
 double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m,
-                                  bool use_blocked, bool seen_free_exempts, double min_range_m) const {
+                                  bool use_blocked, bool seen_free_exempts, double min_range_m,
+                                  double standing_m) const {
   const double near_m = min_range_m > 0.0 ? min_range_m : options_.blocked_min_range_m;
   const Eigen::Vector2d o = odom_T_robot.Translation();
   double free = max_m;
@@ -345,9 +373,10 @@ double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double 
   double held = free;
   if (use_blocked)
     for (const HeldBlockage& h : held_) {
+      const bool standing = standing_m > 0.0 && (h.from - o).norm() <= standing_m;
       const double f = BlockedFree(h.yaws.data(), static_cast<int>(h.yaws.size()), h.from, h.range_m, h.stamp_s, o, yaw,
                                    radius_m, use_blocked, seen_free_exempts, view_blocked, free,
-                                   options_.blocked_hold_in_view, near_m);
+                                   options_.blocked_hold_in_view, near_m, standing ? h.edge.data() : nullptr);
       if (f < free) {
         ++blocking;
         held = std::min(held, f);
@@ -360,14 +389,15 @@ double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double 
 double ObstacleMemory::BlockedFree(const double* yaws, int n, const Eigen::Vector2d& from, double range_m,
                                    double stamp_s, const Eigen::Vector2d& o, double yaw, double radius_m,
                                    bool use_blocked, bool seen_free_exempts, bool view_blocked, double free,
-                                   bool in_view_only, double min_range_m) const {
+                                   bool in_view_only, double min_range_m, const char* edge_out_of_view) const {
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
   const double half = use_blocked ? std::asin(std::min(1.0, radius_m / std::max(min_range_m, radius_m)))
                                   : std::atan2(radius_m, std::max(range_m, radius_m));
   for (int i = 0; i < n; ++i) {
     const double byaw = yaws[i];
-    if (in_view_only && view_half_rad_ >= 0.0 && std::abs(std::remainder(byaw - view_centre_yaw_, 2.0 * M_PI)) > view_half_rad_)
-      continue;  // out of the latest scan's view
+    if (in_view_only && view_half_rad_ >= 0.0 && std::abs(std::remainder(byaw - view_centre_yaw_, 2.0 * M_PI)) > view_half_rad_ &&
+        !(edge_out_of_view != nullptr && edge_out_of_view[i]))
+      continue;  // out of the latest scan's view (but a near thing's edge seen where the robot stands)
     const double dy = std::remainder(byaw - yaw, 2.0 * M_PI);
     if (std::abs(dy) < half) {
       if (!use_blocked && seen_free_exempts && !view_blocked && SeenFree(from, byaw, radius_m, range_m, stamp_s))

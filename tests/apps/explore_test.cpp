@@ -525,6 +525,28 @@ TEST(ExploreCli, ACornerRangedByTheTravelsParallaxIsNotMetSettingOff) {
   std::filesystem::remove_all(dir);
 }
 
+// corridor-9, seeded start 2 of seed 45: the same convex corner, 0.35 m from the robot, which sets
+// off west with the corner 28 degrees to its left, at the edge of its view. Blocked-near columns
+// on either side close every heading; then its right-hand ones clear, the robot turns right toward
+// a heading the corner's columns leave free, and its view loses the corner at once: the latest
+// scan shows nothing near, the held columns counted only in the view, and at 39 degrees off the
+// heading it drove off into the corner (first contact 15.3 s). With --setoff-standing-hold 0.02
+// (off by default) the corner's columns, an edge (floor running far beside them), held where it
+// stands count out of the view too: no heading is free, the stall guard gives the direction up,
+// the probe turns the robot into the cross corridor, and it meets nothing.
+TEST(ExploreCli, ACornerThatLeftTheViewStillHoldsWhereTheRobotStands) {
+  const auto dir = TempDir("setoff-standing-hold");
+  const std::string start = "--world corridor-9 --seed 45 --eval-start 2 --minutes 0.5";
+  const nlohmann::json off = ExploreSummary(dir / "off", start);  // the default: off
+  EXPECT_GT(off["collisions"].get<long>(), 0);
+  EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
+  EXPECT_LT(off["first_collision_s"].get<double>(), 16.0);
+  const nlohmann::json on = ExploreSummary(dir / "on", start + " --setoff-standing-hold 0.02");
+  EXPECT_EQ(on["collisions"].get<long>(), 0);
+  EXPECT_EQ(on["first_hit"].get<std::string>(), "");
+  std::filesystem::remove_all(dir);
+}
+
 // The obstacle course, seeded start 5 of seed 59: after a probe the robot faces west with the dark
 // bin (0.45 m tall, the camera 0.43 m high) 0.5 m ahead, inside the blind range. The bin fills its
 // sonar columns from the bottom row to its top edge just above the horizon, so their only step was

@@ -714,6 +714,40 @@ TEST(ObstacleMemory, BlockedSectorWidensAsTheThingMayStandNearer) {
 // still stops travel along those columns (from where it was taken) until the hold has passed; a
 // direction clear of its columns is free; without the hold the latest scan alone decides. Then
 // the hold's conditions: enough columns, enough scans, and use_blocked.
+// Runs of blocked-near columns: an edge of a near thing unless a neighbour of the run (on either
+// side, where the view has one) is a floor step nearer than the limit.
+TEST(ObstacleMemory, NearEdgeRunsEndInFloorRunningFar) {
+  using K = SonarReturn;
+  auto scan = [](const std::vector<std::pair<K, double>>& cols) {
+    std::vector<SonarColumn> s;
+    for (const auto& [kind, range] : cols) {
+      SonarColumn c;
+      c.kind = kind;
+      c.range_m = range;
+      s.push_back(c);
+    }
+    return s;
+  };
+  using V = std::vector<char>;
+  // A run at the view's edge beside floor running far, and one between far floor and nothing
+  // floor-like: both edges.
+  EXPECT_EQ(ObstacleMemory::NearEdgeRuns(scan({{K::kBlockedNear, 0}, {K::kBlockedNear, 0}, {K::kFar, 6},
+                                               {K::kUnknown, 6}, {K::kBlockedNear, 0}, {K::kFar, 6}}), 1.8),
+            (V{1, 1, 0, 0, 1, 0}));
+  // Beside a step at 1.57 m (under 1.8): a wall running on; at 2.5 m: an edge.
+  EXPECT_EQ(ObstacleMemory::NearEdgeRuns(scan({{K::kBlockedNear, 0}, {K::kBlockedNear, 0}, {K::kBoundary, 1.57},
+                                               {K::kBoundary, 2.5}, {K::kBlockedNear, 0}}), 1.8),
+            (V{0, 0, 0, 0, 1}));
+  // A step near on one side is enough; a whole view blocked is an edge (no neighbour shows a step).
+  EXPECT_EQ(ObstacleMemory::NearEdgeRuns(scan({{K::kFar, 6}, {K::kBlockedNear, 0}, {K::kBoundary, 1.0}}), 1.8),
+            (V{0, 0, 0}));
+  EXPECT_EQ(ObstacleMemory::NearEdgeRuns(scan({{K::kBlockedNear, 0}, {K::kBlockedNear, 0}}), 1.8), (V{1, 1}));
+  EXPECT_TRUE(ObstacleMemory::NearEdgeRuns({}, 1.8).empty());
+  ObstacleMemoryOptions bad;
+  bad.blocked_edge_step_m = -0.1;
+  EXPECT_NE(bad.Validate(), "");
+}
+
 TEST(ObstacleMemory, HeldBlockageOutlivesTheNextScanUntilTheHoldPasses) {
   const CameraModel cam = SonarCamera();
   std::vector<SonarColumn> leg = WallScan(cam, 2.0);
@@ -799,6 +833,36 @@ TEST(ObstacleMemory, HeldBlockageOutlivesTheNextScanUntilTheHoldPasses) {
   EXPECT_NEAR(turned(0.5, true, 40.0, 20.0), turned(0.0, true, 40.0, 20.0), 1e-12);
   // Turned only 10 degrees (the view -20 to 40 degrees): the leg is still in view and held.
   EXPECT_EQ(turned(0.5, true, 10.0, 0.0), 0.0);
+  // A query's standing_m: where the robot still stands (within standing_m of where the held scan
+  // was taken) the held columns of a near thing's edge count out of the view too (the leg's run
+  // has the wall 2 m away beside it, beyond the 0.6 m blind range plus blocked_edge_step_m);
+  // moved 5 cm away, they do not.
+  auto standing = [&](const Pose2& at, double standing_m, const std::vector<SonarColumn>& seen = {}) {
+    ObstacleMemory mem;  // the defaults: held for 0.5 s, in view only
+    mem.Update(seen.empty() ? leg : seen, Pose2{}, 0.0, 0.6);
+    mem.Update(WallScan(cam, 2.0), at, 0.1, 0.6);
+    mem.Gather(at, 0.1);
+    return mem.FreeTravel(at, 20.0 * kPi / 180.0, 0.3, 5.0, /*use_blocked=*/true, /*seen_free_exempts=*/true,
+                          /*min_range_m=*/0.0, standing_m);
+  };
+  const Pose2 left40{0.0, 0.0, 40.0 * kPi / 180.0};
+  ASSERT_GT(standing(left40, 0.0), 0.5);
+  EXPECT_EQ(standing(left40, 0.02), 0.0);
+  EXPECT_EQ(standing(Pose2{0.01, 0.01, 40.0 * kPi / 180.0}, 0.02), 0.0);
+  EXPECT_NEAR(standing(Pose2{-0.05, 0.0, 40.0 * kPi / 180.0}, 0.02), standing(Pose2{-0.05, 0.0, 40.0 * kPi / 180.0}, 0.0), 1e-12);
+  EXPECT_GT(standing(Pose2{-0.05, 0.0, 40.0 * kPi / 180.0}, 0.02), 0.5);
+  // The same columns blocked beside a floor step 0.9 m away (a wall running on into the blind
+  // zone, not an edge): out of the view, standing or not, they hold nothing.
+  std::vector<SonarColumn> wall_on = WallScan(cam, 0.9);
+  for (SonarColumn& c : wall_on) {
+    const double deg = c.bearing_rad * 180.0 / kPi;
+    if (deg > -8.0 && deg < -4.0) {
+      c.kind = SonarReturn::kBlockedNear;
+      c.range_m = 0.0;
+    }
+  }
+  EXPECT_GT(standing(left40, 0.02, wall_on), 0.5);
+  EXPECT_NEAR(standing(left40, 0.02, wall_on), standing(left40, 0.0, wall_on), 1e-12);
   ObstacleMemoryOptions bad;
   bad.blocked_hold_s = -0.1;
   EXPECT_NE(bad.Validate(), "");

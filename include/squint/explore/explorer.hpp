@@ -309,6 +309,19 @@ struct ExplorerOptions {
   // corner with its flank (`squint explore --no-setoff-near-edges`; docs/explore.md, session 32).
   bool setoff_near_edges = true;
   NearEdgeOptions near_edges;
+  // While setoff_blocked_min_range_m holds, the blocked-near columns of a near thing's edge
+  // (ObstacleMemoryOptions::blocked_edge_step_m: a run of them that ends in floor running far, not
+  // beside a floor step near the blind range) in the scans held over the last half second
+  // (blocked_hold_s) count outside the latest scan's view too where they were seen within this
+  // distance (metres) of where the robot stands: turning in place, it has not moved away from
+  // them. blocked_hold_in_view drops a held column once it leaves the view, and a robot started
+  // 0.35 m from corridor-9's convex corner, which it saw at the edge of its view, turned away
+  // until the corner left the view and drove off with it 39 degrees to its left, into its flank
+  // (start 2 of seed 45). Held in full (every blocked column, walls too), robots beside
+  // corridor-1's brick walls never got under way. 0: off, the default: with 0.02 the obstacle
+  // course's start 1 of seed 4, beside a column, turned away from an edge held on one side into
+  // the column on the other (`squint explore --setoff-standing-hold M`; docs/explore.md, session 33).
+  double setoff_standing_hold_m = 0.0;
   // Watch the visual sonar for the robot's own reflection (MirrorWatch: a disc of the robot's
   // radius that moves as the robot's position mirrored in a plane, not as anything standing
   // does) and, where it shows, remember a wall on the mirror's plane (confirmed points, which

@@ -91,6 +91,13 @@ struct ObstacleMemoryOptions {
   // on by default since session 23, whose side_wall_cluster_m removed that false opening
   // (`squint explore --no-blocked-hold-in-view`; docs/explore.md, sessions 22 and 23).
   bool blocked_hold_in_view = true;
+  // A run of blocked-near columns is a near thing's edge where no neighbouring column (one on
+  // each side of the run, where the view has it) shows a floor step nearer than the blind range
+  // plus this margin (metres): the run ends in floor running far, or in nothing floor-like. Beside
+  // such a step it is a wall running on into the blind zone (a corridor's wall 0.6 m to the side
+  // fills the view's outer columns' bottom rows). FreeTravel's standing_m holds only the edges'
+  // columns out of the view.
+  double blocked_edge_step_m = 0.6;
   // Keep which cells are known free of anything standing (UnknownBeside; the explorer's
   // guard_unknown_step_m turns it on): floor seen there, a column whose floor shows from its
   // bottom row crossing it in the blind zone, or the robot's disc (MarkFootprint).
@@ -105,6 +112,10 @@ class ObstacleMemory {
   // One sonar scan taken at odom_T_robot: clears what the floor seen proves free, stores the
   // boundaries and near blockages. `near_blind_m`: the sonar's blind range.
   void Update(const std::vector<SonarColumn>& scan, const Pose2& odom_T_robot, double stamp_s, double near_blind_m);
+  // Per column of `scan`: 1 where it is blocked near and its run of blocked-near columns is a near
+  // thing's edge, no neighbouring column of the run a floor step nearer than `step_within_m`
+  // (blocked_edge_step_m); 0 elsewhere.
+  static std::vector<char> NearEdgeRuns(const std::vector<SonarColumn>& scan, double step_within_m);
   // Collects the remembered points within the query radius of `odom_T_robot` (call once after
   // the robot moved, before the queries below).
   void Gather(const Pose2& odom_T_robot, double stamp_s);
@@ -119,9 +130,12 @@ class ObstacleMemory {
   // (the explorer: the latest frame shows a brick wall's lines, whose base may have been read as
   // floor from farther back).
   // The earlier scans' blockages (blocked_hold_s) count only with use_blocked.
-  // `min_range_m` > 0 replaces blocked_min_range_m for this query.
+  // `min_range_m` > 0 replaces blocked_min_range_m for this query. `standing_m` > 0: the columns
+  // of a near thing's edge (blocked_edge_step_m) in a held scan taken within standing_m of the
+  // gathered pose count outside the latest scan's view too (blocked_hold_in_view leaves them out
+  // otherwise).
   double FreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m, bool use_blocked = true,
-                    bool seen_free_exempts = true, double min_range_m = 0.0) const;
+                    bool seen_free_exempts = true, double min_range_m = 0.0, double standing_m = 0.0) const;
   // The same sweep against the gathered points only (no blocked-near columns), leaving out the
   // points whose distance along `yaw` lies in (skip_from_m, skip_to_m] (none when skip_to_m <=
   // skip_from_m).
@@ -208,6 +222,7 @@ class ObstacleMemory {
   std::vector<Eigen::Vector2d> gathered_;
   // The latest scan's blocked-near columns (odometry yaws), where it was taken, its blind range.
   std::vector<double> blocked_yaws_;
+  std::vector<char> blocked_edge_;  // per blocked column of the latest scan: a near thing's edge
   int n_blocked_ = 0;
   int n_columns_ = 0;  // columns of the latest scan
   int blocked_view_run_ = 0;  // consecutive scans with a blocked view (blocked_view_fraction)
@@ -220,6 +235,7 @@ class ObstacleMemory {
   // Earlier scans' blocked-near columns within blocked_hold_s (ObstacleMemoryOptions).
   struct HeldBlockage {
     std::vector<double> yaws;
+    std::vector<char> edge;  // per yaw: a near thing's edge (blocked_edge_step_m)
     Eigen::Vector2d from = Eigen::Vector2d::Zero();
     double range_m = 0.0;
     double stamp_s = 0.0;
@@ -228,7 +244,8 @@ class ObstacleMemory {
   // FreeTravel's test against one scan's blocked-near columns.
   double BlockedFree(const double* yaws, int n, const Eigen::Vector2d& from, double range_m, double stamp_s,
                      const Eigen::Vector2d& o, double yaw, double radius_m, bool use_blocked, bool seen_free_exempts,
-                     bool view_blocked, double free, bool in_view_only, double min_range_m) const;
+                     bool view_blocked, double free, bool in_view_only, double min_range_m,
+                     const char* edge_out_of_view = nullptr) const;
 };
 
 }  // namespace squint::explore
