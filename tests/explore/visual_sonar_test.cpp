@@ -750,14 +750,19 @@ TEST(ObstacleMemory, NearEdgeRunsEndInFloorRunningFar) {
 
 TEST(ObstacleMemory, HeldBlockageOutlivesTheNextScanUntilTheHoldPasses) {
   const CameraModel cam = SonarCamera();
-  std::vector<SonarColumn> leg = WallScan(cam, 2.0);
-  for (SonarColumn& c : leg) {
-    const double deg = c.bearing_rad * 180.0 / kPi;
-    if (deg > -8.0 && deg < -4.0) {
-      c.kind = SonarReturn::kBlockedNear;
-      c.range_m = 0.0;
+  // The leg's columns (-8 to -4 degrees) blocked near in a scan of a wall wall_m ahead.
+  auto leg_before = [&](double wall_m) {
+    std::vector<SonarColumn> scan = WallScan(cam, wall_m);
+    for (SonarColumn& c : scan) {
+      const double deg = c.bearing_rad * 180.0 / kPi;
+      if (deg > -8.0 && deg < -4.0) {
+        c.kind = SonarReturn::kBlockedNear;
+        c.range_m = 0.0;
+      }
     }
-  }
+    return scan;
+  };
+  const std::vector<SonarColumn> leg = leg_before(2.0);
   auto run = [&](double hold_s, const Pose2& at, double query_s, double yaw) {
     ObstacleMemoryOptions opt;
     opt.blocked_hold_s = hold_s;
@@ -853,14 +858,7 @@ TEST(ObstacleMemory, HeldBlockageOutlivesTheNextScanUntilTheHoldPasses) {
   EXPECT_GT(standing(Pose2{-0.05, 0.0, 40.0 * kPi / 180.0}, 0.02), 0.5);
   // The same columns blocked beside a floor step 0.9 m away (a wall running on into the blind
   // zone, not an edge): out of the view, standing or not, they hold nothing.
-  std::vector<SonarColumn> wall_on = WallScan(cam, 0.9);
-  for (SonarColumn& c : wall_on) {
-    const double deg = c.bearing_rad * 180.0 / kPi;
-    if (deg > -8.0 && deg < -4.0) {
-      c.kind = SonarReturn::kBlockedNear;
-      c.range_m = 0.0;
-    }
-  }
+  const std::vector<SonarColumn> wall_on = leg_before(0.9);
   EXPECT_GT(standing(left40, 0.02, wall_on), 0.5);
   EXPECT_NEAR(standing(left40, 0.02, wall_on), standing(left40, 0.0, wall_on), 1e-12);
   ObstacleMemoryOptions bad;
