@@ -505,7 +505,7 @@ double Explorer::Free(const Percept& p, double yaw, double max_m) const {
                        travel_in_corridor_m_ >= opt_.trust_memory_after_m;
   double min_range_m = settled ? opt_.settled_blocked_min_range_m : 0.0;
   if (setting_off_ && opt_.setoff_blocked_min_range_m > 0.0) min_range_m = opt_.setoff_blocked_min_range_m;
-  // Setting off where it stands, the robot keeps the blockages it held out of the view too.
+  // Setting off where it stands, the robot keeps the near edges it held out of the view too.
   const double standing_m = setting_off_ ? opt_.setoff_standing_hold_m : 0.0;
   return memory_.FreeTravel(p.odom_T_robot, yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m, use_blocked,
                             seen_free_exempts, min_range_m, standing_m);
