@@ -395,9 +395,10 @@ double ObstacleMemory::BlockedFree(const double* yaws, int n, const Eigen::Vecto
                                   : std::atan2(radius_m, std::max(range_m, radius_m));
   for (int i = 0; i < n; ++i) {
     const double byaw = yaws[i];
-    if (in_view_only && view_half_rad_ >= 0.0 && std::abs(std::remainder(byaw - view_centre_yaw_, 2.0 * M_PI)) > view_half_rad_ &&
-        !(edge_out_of_view != nullptr && edge_out_of_view[i]))
-      continue;  // out of the latest scan's view (but a near thing's edge seen where the robot stands)
+    const bool out_of_view =
+        view_half_rad_ >= 0.0 && std::abs(std::remainder(byaw - view_centre_yaw_, 2.0 * M_PI)) > view_half_rad_;
+    // Out of the latest scan's view: skipped, but a near thing's edge seen where the robot stands.
+    if (in_view_only && out_of_view && !(edge_out_of_view != nullptr && edge_out_of_view[i])) continue;
     const double dy = std::remainder(byaw - yaw, 2.0 * M_PI);
     if (std::abs(dy) < half) {
       if (!use_blocked && seen_free_exempts && !view_blocked && SeenFree(from, byaw, radius_m, range_m, stamp_s))

@@ -854,8 +854,9 @@ TEST(ObstacleMemory, HeldBlockageOutlivesTheNextScanUntilTheHoldPasses) {
   ASSERT_GT(standing(left40, 0.0), 0.5);
   EXPECT_EQ(standing(left40, 0.02), 0.0);
   EXPECT_EQ(standing(Pose2{0.01, 0.01, 40.0 * kPi / 180.0}, 0.02), 0.0);
-  EXPECT_NEAR(standing(Pose2{-0.05, 0.0, 40.0 * kPi / 180.0}, 0.02), standing(Pose2{-0.05, 0.0, 40.0 * kPi / 180.0}, 0.0), 1e-12);
-  EXPECT_GT(standing(Pose2{-0.05, 0.0, 40.0 * kPi / 180.0}, 0.02), 0.5);
+  const Pose2 moved{-0.05, 0.0, 40.0 * kPi / 180.0};
+  EXPECT_NEAR(standing(moved, 0.02), standing(moved, 0.0), 1e-12);
+  EXPECT_GT(standing(moved, 0.02), 0.5);
   // The same columns blocked beside a floor step 0.9 m away (a wall running on into the blind
   // zone, not an edge): out of the view, standing or not, they hold nothing.
   const std::vector<SonarColumn> wall_on = leg_before(0.9);

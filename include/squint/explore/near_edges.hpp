@@ -8,8 +8,9 @@
 // turns about its own foot); driving moves an edge by an angle that grows as it comes nearer. Two
 // frames (the latest and one of the last `history` frames taken min_baseline_m to
 // max_baseline_m from it, facing within max_turn_rad of it), with the same edge found in both
-// (the same sign of step and the grey levels on each side within level_tolerance, the only such edge within match_window_rad of the bearing the second frame
-// predicts for a far edge), give the edge's position by intersecting the two rays. Edges ranged
+// (the same sign of step and the grey levels on each side within level_tolerance, the only such
+// edge within match_window_rad of the bearing the second frame predicts for a far edge), give
+// the edge's position by intersecting the two rays. Edges ranged
 // between min_range_m and max_range_m, even with the angle the edge moved through reduced by
 // angle_noise_rad, and alike (agree_fraction) when paired with the oldest and with the newest
 // such kept frame, are returned as points in the odometry frame.
