@@ -7,7 +7,8 @@
 # Writes OUT_DIR/seed-S/{table.md,runs.csv,map-*.png} and OUT_DIR/summary.txt. A closed loop's
 # outcome is chaotic (any change to the explorer reshuffles which starts fail), so compare
 # variants over many seeds, and judge on seeds that were not used to tune them (docs/explore.md,
-# session 9). Not part of CI: about 2.5 CPU minutes per seed.
+# session 9); `squint eval compare-explore BASE_DIR VARIANT_DIR` compares two such folders run by
+# run. Not part of CI: about 2.5 CPU minutes per seed.
 set -euo pipefail
 if [ $# -lt 4 ]; then
   echo "usage: $0 SQUINT OUT_DIR FIRST_SEED LAST_SEED [extra eval options...]" >&2

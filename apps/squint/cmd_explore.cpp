@@ -19,6 +19,7 @@
 #include "squint/core/angles.hpp"
 #include "squint/core/error.hpp"
 #include "squint/config/corridor_yaml.hpp"
+#include "squint/eval/explore_compare.hpp"
 #include "squint/eval/explore_run.hpp"
 #include "squint/eval/plot.hpp"
 #include "squint/io/atomic_output.hpp"
@@ -525,6 +526,25 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
   std::cout << table << footer;
 }
 
+struct CompareExploreOptions {
+  std::string base, next;
+  std::string out;  // optional: the report also written here
+};
+
+void RunCompareExplore(const CompareExploreOptions& opt) {
+  const std::vector<eval::ExploreRunRow> base = eval::LoadExploreRuns(opt.base);
+  const std::vector<eval::ExploreRunRow> next = eval::LoadExploreRuns(opt.next);
+  eval::ExploreComparison c;
+  try {
+    c = eval::CompareExploreRuns(base, next);
+  } catch (const Error& e) {
+    throw Error(opt.base + " against " + opt.next + ": " + e.what());
+  }
+  const std::string report = eval::FormatExploreComparison(c, opt.base, opt.next);
+  if (!opt.out.empty()) io::WriteFileAtomically(opt.out, report);
+  std::cout << report;
+}
+
 struct SonarViewOptions {
   std::string world = "default";
   std::string pose;  // X,Y,YAW_DEG
@@ -613,6 +633,19 @@ void Register(CLI::App& root) {
   ex->add_option("--calib", eopt->calib, "As `squint explore`")->check(CLI::ExistingFile);
   eopt->variants.AddFlags(ex, false);
   ex->callback([eopt] { RunEvalExplore(*eopt); });
+
+  auto copt = std::make_shared<CompareExploreOptions>();
+  CLI::App* cmp = eval_cmd->add_subcommand(
+      "compare-explore",
+      "Two sets of `eval explore` runs compared run by run: per world coverage, distance and collisions, "
+      "changed runs, runs failing in one set only");
+  cmp->add_option("BASE", copt->base,
+                  "Baseline: a runs.csv, a folder holding one, or a folder of seed-S/ folders (tools/eval_explore_seeds.sh)")
+      ->required();
+  cmp->add_option("NEW", copt->next, "The variant, the same way (its runs are matched by seed folder, world and start)")
+      ->required();
+  cmp->add_option("--out", copt->out, "Also write the report (Markdown) to this file");
+  cmp->callback([copt] { RunCompareExplore(*copt); });
 
   auto sopt = std::make_shared<SonarViewOptions>();
   CLI::App* sv = eval_cmd->add_subcommand("sonar", "One visual-sonar frame at a pose: its columns as CSV (a diagnostic)");

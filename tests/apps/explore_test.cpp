@@ -3,6 +3,7 @@
 // minutes) is one clear error line and no output folder.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -850,6 +851,45 @@ TEST(ExploreCli, NonPositiveMinutesIsRejected) {
     EXPECT_LT(r.err.find('\n'), 80u) << r.all();
     EXPECT_FALSE(std::filesystem::exists(out));
   }
+}
+
+}  // namespace
+
+namespace {
+
+// `squint eval compare-explore`: a set of real `eval explore` runs compared with itself (a round
+// trip: every run matched, none changed, the same figures on both sides), the report also written
+// with --out, and bad input as one error line with a non-zero exit.
+TEST(ExploreCli, CompareExploreMatchesASetWithItselfAndNamesBadInput) {
+  const auto dir = TempDir("compare");
+  const CliResult run = RunSquint("eval explore --world corridor-0 --starts 2 --minutes 0.1 --seed 3 --out " +
+                                  (dir / "set" / "seed-3").string());
+  ASSERT_EQ(run.code, 0) << run.all();
+  const CliResult r = RunSquint("eval compare-explore " + (dir / "set").string() + " " +
+                                (dir / "set" / "seed-3" / "runs.csv").string() + " --out " + (dir / "report.md").string());
+  // The folder of seed folders labels its runs seed-3, the single file does not: nothing shared.
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("share no run"), std::string::npos) << r.all();
+  EXPECT_FALSE(std::filesystem::exists(dir / "report.md"));
+
+  const CliResult same = RunSquint("eval compare-explore " + (dir / "set").string() + " " + (dir / "set").string() +
+                                   " --out " + (dir / "report.md").string());
+  ASSERT_EQ(same.code, 0) << same.all();
+  EXPECT_NE(same.out.find("Runs compared: 2 (0 changed); left out, in one set only: 0 in BASE, 0 in NEW."),
+            std::string::npos)
+      << same.out;
+  EXPECT_NE(same.out.find("Coverage, NEW - BASE, paired: +0.0000 +- 0.0000"), std::string::npos) << same.out;
+  EXPECT_NE(same.out.find("0 only in NEW, 0 only in BASE"), std::string::npos) << same.out;
+  std::ifstream in(dir / "report.md");
+  std::stringstream written;
+  written << in.rdbuf();
+  EXPECT_EQ(written.str(), same.out);
+
+  const CliResult missing = RunSquint("eval compare-explore " + (dir / "set").string() + " " + (dir / "none").string());
+  EXPECT_NE(missing.code, 0);
+  EXPECT_NE(missing.err.find((dir / "none").string() + ": no such file or folder"), std::string::npos) << missing.all();
+  EXPECT_EQ(std::count(missing.err.begin(), missing.err.end(), '\n'), 1) << missing.err;
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
