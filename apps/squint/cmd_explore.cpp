@@ -121,6 +121,8 @@ struct ExplorerVariants {
   double known_end_disagree_m = 0.0;
   // A far column whose bottom differs this much from the floor is blocked near (explore::VisualSonarOptions::far_floor_max_diff; 0: off; 40 since session 26).
   double far_floor_diff = 40.0;
+  // ...and a step in range this far or farther too (explore::VisualSonarOptions::far_floor_from_m; 0: far only).
+  double far_floor_from_m = 0.0;
   // The floor reference from boundary columns first (explore::VisualSonarOptions::floor_ref_boundaries; off).
   bool floor_ref_boundaries = false;
   // A view smooth all over does not become the floor's texture reference (ExplorerOptions::blind_texture_keep_ref;
@@ -199,6 +201,7 @@ struct ExplorerVariants {
     ro.explorer.known_end_slow_m = known_end_slow_m;
     ro.explorer.known_end_disagree_m = known_end_disagree_m;
     ro.sonar.far_floor_max_diff = far_floor_diff;
+    ro.sonar.far_floor_from_m = far_floor_from_m;
     ro.sonar.floor_ref_boundaries = floor_ref_boundaries;
     ro.explorer.blind_texture_keep_ref = blind_texture_keep_ref;
     ro.explorer.blind_texture_keep_peak = blind_texture_keep_peak;
@@ -318,6 +321,10 @@ struct ExplorerVariants {
                     text("A visual-sonar column whose only step is at the horizon (floor all the way) but whose bottom rows differ from the frame's floor by more than this (grey levels) is blocked near: something taller than the camera stands within the blind range and fills it up to the horizon (0: off; 40 by default since session 26; docs/explore.md, session 26)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 255.0));
+    cmd->add_option("--far-floor-from", far_floor_from_m,
+                    text("With --far-floor-diff: a column whose step lies this far or farther (metres) is judged the same way, not only one whose step is at the horizon: the top edge of something standing within the blind range a little lower than the camera lies metres out on the floor (0: far steps only, the default; docs/explore.md, session 34)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 20.0));
     cmd->add_flag("--floor-ref-boundaries,!--no-floor-ref-boundaries", floor_ref_boundaries,
                   text("The visual sonar's floor reference (the median bottom of its columns with a clear step, against which --far-floor-diff and the stepless columns are judged) comes from the columns whose step is a wall's or an obstacle's base in range, far columns joining only when those are too few: a box filling most of the view up close read far in every column and its own bottom became the reference (off by default; docs/explore.md, session 27)"));
     cmd->add_flag("--blind-texture-keep-ref,!--no-blind-texture-keep-ref", blind_texture_keep_ref,

@@ -30,6 +30,7 @@ std::string VisualSonarOptions::Validate() const {
   if (min_reference_columns < 1 || min_reference_columns > 640) return "min_reference_columns must be in [1, 640]";
   if (!(gradient_unknown_levels >= 0.0) || !std::isfinite(gradient_unknown_levels)) return "gradient_unknown_levels must be >= 0";
   if (!(far_floor_max_diff >= 0.0) || !std::isfinite(far_floor_max_diff)) return "far_floor_max_diff must be >= 0";
+  if (!(far_floor_from_m >= 0.0) || !std::isfinite(far_floor_from_m)) return "far_floor_from_m must be >= 0";
   if (wall_line_band_columns < 2 || wall_line_band_columns > 640) return "wall_line_band_columns must be in [2, 640]";
   if (wall_line_detrend_rows < 1 || wall_line_detrend_rows > 16) return "wall_line_detrend_rows must be in [1, 16]";
   if (!(wall_line_min_std >= 0.0) || !std::isfinite(wall_line_min_std)) return "wall_line_min_std must be >= 0";
@@ -261,13 +262,17 @@ const std::vector<SonarColumn>& VisualSonar::Process(GrayView image) {
   // from its bottom rows to the horizon shows the floor's perspective shading (a corridor whose
   // far boundaries have no contrast), not one surface filling the view: unknown.
   // A far step over a bottom unlike the floor (far_floor_max_diff) is no step: something standing
-  // near fills the column up to the horizon, and the column is judged as the stepless ones.
+  // near fills the column up to the horizon, and the column is judged as the stepless ones. With
+  // far_floor_from_m, steps in range from there on as well (the top edge of something a little
+  // lower than the camera).
   const float gradient = static_cast<float>(options_.gradient_unknown_levels);
   const float far_limit = static_cast<float>(options_.far_floor_max_diff);
+  const double far_from = options_.far_floor_from_m > 0.0 ? std::min(options_.far_floor_from_m, options_.max_range_m)
+                                                           : options_.max_range_m;
   for (int u = 0; u < w; ++u) {
     const std::size_t i = static_cast<std::size_t>(u);
     unknown_[i] = 0;
-    if (rows_[i] >= 0 && floor_ref >= 0.0f && far_limit > 0.0f && raw_[i] >= options_.max_range_m &&
+    if (rows_[i] >= 0 && floor_ref >= 0.0f && far_limit > 0.0f && raw_[i] >= far_from &&
         std::abs(bottom_[i] - floor_ref) > far_limit) {
       rows_[i] = -1;
       raw_[i] = 0.0;

@@ -384,6 +384,58 @@ TEST(VisualSonar, AFarStepOverABottomUnlikeTheFloorIsSomethingStandingNear) {
   EXPECT_NE(o.Validate().find("far_floor_max_diff"), std::string::npos);
 }
 
+// Something standing within the blind range a little lower than the camera: its dark face fills
+// columns 40-51 from the bottom row up to its top edge, which lies below the horizon where the
+// floor beside it ends at a wall's base about 4 m away (the default building's bin, start 7 of
+// seed 70). Those columns' only step is that top edge, a boundary in range, so far_floor_max_diff
+// alone (far steps) reads them as floor running 3.8 m. With far_floor_from_m under that range
+// they are blocked near; beyond it, or with far_floor_max_diff off, they read the boundary
+// as before. The floor beside, with its step at the same row, stays a boundary.
+TEST(VisualSonar, AStepInRangeOverABottomUnlikeTheFloorIsSomethingStandingNearFromAChosenRange) {
+  const CameraModel cam = SonarCamera();
+  const int horizon = static_cast<int>(std::floor(cam.HorizonRow()));
+  const int edge = horizon + 9;  // the wall's base beside the thing, and the thing's top edge: 3.8 m
+  std::vector<int> rows(64, 38);  // a nearer wall's base on the left
+  for (int u = 32; u < 64; ++u) rows[static_cast<std::size_t>(u)] = edge;
+  Image im = FloorWall(rows);
+  for (int u = 40; u < 52; ++u)
+    for (int v = edge + 1; v < 48; ++v) im.At(u, v) = 65;
+  VisualSonarOptions o;
+  EXPECT_EQ(o.far_floor_from_m, 0.0);  // the default: far steps only
+  VisualSonar plain(cam, o);
+  const auto& before = plain.Process(im.View());
+  const double range = before[45].range_m;  // the top edge read as the floor's end
+  ASSERT_EQ(before[45].kind, SonarReturn::kBoundary);
+  ASSERT_GT(range, 2.0);
+  ASSERT_LT(range, 6.0);
+  for (int u = 42; u < 50; ++u) EXPECT_EQ(before[static_cast<std::size_t>(u)].kind, SonarReturn::kBoundary) << "column " << u;
+
+  o.far_floor_from_m = range - 0.5;
+  VisualSonar on(cam, o);
+  const auto& after = on.Process(im.View());
+  for (int u = 42; u < 50; ++u) {
+    EXPECT_EQ(after[static_cast<std::size_t>(u)].kind, SonarReturn::kBlockedNear) << "column " << u;
+    EXPECT_EQ(after[static_cast<std::size_t>(u)].range_m, 0.0) << "column " << u;
+  }
+  for (int u = 56; u < 64; ++u) {
+    EXPECT_EQ(after[static_cast<std::size_t>(u)].kind, SonarReturn::kBoundary) << "column " << u;
+    EXPECT_EQ(after[static_cast<std::size_t>(u)].range_m, before[static_cast<std::size_t>(u)].range_m) << "column " << u;
+  }
+  for (int u = 4; u < 28; ++u) EXPECT_EQ(after[static_cast<std::size_t>(u)].kind, SonarReturn::kBoundary) << "column " << u;
+
+  o.far_floor_from_m = range + 1.0;  // the step lies nearer than where the test starts
+  VisualSonar beyond(cam, o);
+  const auto& nearer = beyond.Process(im.View());
+  for (int u = 42; u < 50; ++u) EXPECT_EQ(nearer[static_cast<std::size_t>(u)].kind, SonarReturn::kBoundary) << "column " << u;
+  o.far_floor_from_m = range - 0.5;
+  o.far_floor_max_diff = 0.0;  // the test itself off
+  VisualSonar off(cam, o);
+  const auto& none = off.Process(im.View());
+  for (int u = 42; u < 50; ++u) EXPECT_EQ(none[static_cast<std::size_t>(u)].kind, SonarReturn::kBoundary) << "column " << u;
+  o.far_floor_from_m = -1.0;
+  EXPECT_NE(o.Validate().find("far_floor_from_m"), std::string::npos);
+}
+
 // The same dark thing filling most of the view (columns 16-63) up to the horizon: the columns
 // reading far outnumber those with a wall's base in range (0-15), the frame's floor reference (the
 // median bottom of the columns with a step) becomes the thing's own grey and far_floor_max_diff

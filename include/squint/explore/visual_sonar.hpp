@@ -47,6 +47,12 @@ struct VisualSonarOptions {
   // horizon, so the only step is that top edge, at the horizon (the obstacle course's dark bin
   // 0.5 m ahead read as floor running 6 m on). 0 turns it off; 40 by default since session 26.
   double far_floor_max_diff = 40.0;
+  // > 0: the same test for a step in range at this floor range or farther (metres). Something
+  // standing of height H a little under the camera's height hc, at range d, puts its top edge at
+  // hc / (hc - H) × d: the default building's bin, 0.45 m tall under a 0.6 m camera, its near side
+  // 0.73 m ahead, has its top edge at 2.9 m, and its dark face from the bottom row up read as floor
+  // running to a wall there (default, start 7 of seed 70). 0 (the default): far steps only.
+  double far_floor_from_m = 0.0;
   // The frame's floor reference (the median bottom of the columns with a clear step) taken from
   // the columns whose step is a boundary in range only, when at least min_reference_columns (and
   // 3) have one; far columns join it only otherwise. A box 0.45 m tall filling 50 of 64 columns
