@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <regex>
 #include <set>
 #include <tuple>
@@ -58,13 +59,16 @@ void ReadRunsCsv(const fs::path& file, const std::string& set, std::vector<Explo
   }
 }
 
-// seed-S folders sort by S, then anything else by name.
-std::tuple<long long, std::string> SetOrder(const std::string& set) {
+// S of a seed-S folder's name; none for any other name.
+std::optional<long long> SeedOf(const std::string& name) {
   static const std::regex kSeed("seed-([0-9]{1,15})");
   std::smatch m;
-  if (std::regex_match(set, m, kSeed)) return {std::stoll(m[1].str()), set};
-  return {-1, set};
+  if (std::regex_match(name, m, kSeed)) return std::stoll(m[1].str());
+  return std::nullopt;
 }
+
+// seed-S folders sort by S, then anything else by name.
+std::tuple<long long, std::string> SetOrder(const std::string& set) { return {SeedOf(set).value_or(-1), set}; }
 
 using Key = std::tuple<std::string, std::string, int>;  // set, world, start
 Key KeyOf(const ExploreRunRow& r) { return {r.set, r.world, r.start}; }
@@ -122,11 +126,10 @@ std::vector<ExploreRunRow> LoadExploreRuns(const fs::path& path) {
     if (fs::exists(path / "runs.csv", ec)) {
       ReadRunsCsv(path / "runs.csv", "", rows);
     } else {
-      static const std::regex kSeed("seed-[0-9]{1,15}");
       std::vector<std::string> sets;
       for (const auto& e : fs::directory_iterator(path, ec)) {
         const std::string name = e.path().filename().string();
-        if (e.is_directory() && std::regex_match(name, kSeed)) sets.push_back(name);
+        if (e.is_directory() && SeedOf(name)) sets.push_back(name);
       }
       if (ec) throw Error(path.string() + ": cannot list the folder: " + ec.message());
       if (sets.empty()) throw Error(path.string() + ": no runs.csv and no seed-S folders in this folder");
