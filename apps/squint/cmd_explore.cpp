@@ -149,6 +149,8 @@ struct ExplorerVariants {
   double setoff_standing_hold_m = 0.0;
   // Watch for the robot's own reflection and remember a wall on the mirror (ExplorerOptions::mirror_watch; on since session 29).
   bool mirror_watch = true;
+  // A driven corridor closed by a stall right after setting off is reopened on the next arrival (TopoMapOptions::reopen_blocked_driven).
+  bool reopen_blocked_driven = false;
   // Feel contacts from the wheels, remember them and reverse the way just driven (ExplorerOptions::feel_contacts; on since session 30).
   bool feel_contacts = true;
   int contact_frames = 2;  // ...on this many steps in a row (ExplorerOptions::contact_frames)
@@ -213,6 +215,7 @@ struct ExplorerVariants {
     ro.explorer.setoff_near_edges = setoff_near_edges;
     ro.explorer.setoff_standing_hold_m = setoff_standing_hold_m;
     ro.explorer.mirror_watch = mirror_watch;
+    ro.explorer.map.reopen_blocked_driven = reopen_blocked_driven;
     ro.explorer.feel_contacts = feel_contacts;
     ro.explorer.contact_frames = contact_frames;
     ro.explorer.memory.blind_points_from_m = blind_points_from_m;
@@ -357,6 +360,8 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("--mirror-watch,!--no-mirror-watch", mirror_watch,
                   text("Watch the visual sonar for the robot's own reflection, a disc of its radius that moves as the robot's position mirrored in a plane (it comes nearer at twice the robot's speed), which nothing standing does; where it shows, remember a wall on the mirror's plane that the floor seen through the mirror does not erase: a mirror shows the corridor going on behind its base, and corridor-5's robot weaved into its mirror end (on by default since session 29; docs/explore.md, session 29)"));
+    cmd->add_flag("--reopen-blocked-driven,!--no-reopen-blocked-driven", reopen_blocked_driven,
+                  text("A corridor the robot has driven that it found blocked right after setting off along it (the stall guard) is closed for the rest of that visit to the node only, and open again (explored) on the next arrival: the robot stood where it could not set off (inside a side branch's mouth), which says nothing of the corridor. Without it a T's bar closed that way from its stem left the robot shuttling between the stem's dead end and the T for the rest of the run (docs/explore.md, session 35)"));
     cmd->add_flag("--feel-contacts,!--no-feel-contacts", feel_contacts,
                   text("Feel a contact from the wheels: commanded forward on two steps in a row while odometry shows (almost) no progress, something stands against the disc's front where the camera cannot see it; remember it as a point the floor seen later does not erase, reverse up to 0.1 m along the way just driven (the one reversal that is not blind) and look and choose as at any blockage (on by default since session 30; docs/explore.md, session 30)"));
     cmd->add_option("--contact-frames", contact_frames,

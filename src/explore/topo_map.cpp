@@ -65,6 +65,12 @@ int TopoMap::Arrive(const Eigen::Vector2d& position_m, int travel_dir, bool came
   }
   TopoNode& node = nodes_[id];
   ++node.arrivals;
+  if (options_.reopen_blocked_driven) {
+    for (int k = 0; k < 4; ++k) {
+      if (node.blocked_driven[k] && node.branch[k] == Branch::kWall) node.branch[k] = Branch::kExplored;
+      node.blocked_driven[k] = false;
+    }
+  }
   const int back = Opposite(travel_dir);
   if (came_along || pending_node_ >= 0) node.branch[back] = Branch::kExplored;
   if (pending_node_ >= 0 && pending_node_ != id) {
@@ -82,8 +88,10 @@ int TopoMap::Arrive(const Eigen::Vector2d& position_m, int travel_dir, bool came
 void TopoMap::SetBranch(int node, int dir, Branch state, bool force) {
   SQUINT_ENSURE(node >= 0 && node < static_cast<int>(nodes_.size()), "unknown node");
   SQUINT_ENSURE(dir >= 0 && dir < 4, "dir must be 0..3");
-  Branch& b = nodes_[node].branch[dir];
+  TopoNode& n = nodes_[node];
+  Branch& b = n.branch[dir];
   if (!force && b == Branch::kExplored && state != Branch::kExplored) return;
+  n.blocked_driven[dir] = force && state == Branch::kWall && n.neighbour[dir] >= 0;
   b = state;
 }
 

@@ -853,6 +853,40 @@ TEST(ExploreCli, TakesTheSideBranchOfATMetFromItsBar) {
   std::filesystem::remove(world);
 }
 
+// `default`, seed 1, with --wall-line-align: the robot drives the south stem, comes back up it to
+// the T at (20, 0), stops inside the stem's mouth, turns west (the bar it came along) and stalls
+// right after setting off (182.7 s): that branch is closed, and with the east side judged a wall
+// the T is a dead end for good. The 45-minute run then shuttles between the T and the stem's dead
+// end (coverage 0.21). With --reopen-blocked-driven the west branch is open again on the next
+// arrival (239 s): the robot sets off west from another stop and passes junction 0 at x = 11.3.
+// The latest time (after 200 s) at which the robot stood west of x = 15: none without.
+double LastTimeWestOf(const std::filesystem::path& out, double x_max, double after_s) {
+  std::ifstream tr(out / "trace.csv");
+  std::string line;
+  std::getline(tr, line);  // t_s,true_x_m,...
+  double last = -1.0;
+  while (std::getline(tr, line)) {
+    std::stringstream ss(line);
+    std::string t, x;
+    std::getline(ss, t, ',');
+    std::getline(ss, x, ',');
+    if (std::stod(t) > after_s && std::stod(x) < x_max) last = std::stod(t);
+  }
+  return last;
+}
+
+TEST(ExploreCli, ADrivenCorridorBlockedAtSetOffIsTriedAgainOnTheNextArrival) {
+  const auto dir = TempDir("reopen-blocked-driven");
+  const std::string run = "--world default --seed 1 --minutes 4.5 --wall-line-align";
+  const nlohmann::json closed = ExploreSummary(dir / "closed", run);
+  EXPECT_EQ(closed["collisions"].get<long>(), 0);
+  EXPECT_LT(LastTimeWestOf(dir / "closed", 15.0, 200.0), 0.0);
+  const nlohmann::json reopened = ExploreSummary(dir / "reopened", run + " --reopen-blocked-driven");
+  EXPECT_EQ(reopened["collisions"].get<long>(), 0);
+  EXPECT_GT(LastTimeWestOf(dir / "reopened", 15.0, 200.0), 250.0);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(ExploreCli, UnknownWorldIsOneClearLine) {
   const auto out = TempDir("bad");
   const CliResult r = RunSquint("explore --world no-such-world --minutes 0.1 --out " + out.string());

@@ -172,6 +172,59 @@ TEST(TopoMap, SideBranchPassedMidCorridorIsANodeAndIsChosen) {
   EXPECT_EQ(map.ChooseBranch(j, 2), 3);
 }
 
+// A T at B(10,0): the bar runs west to A(0,0) and east (a wall here), the stem south to a dead
+// end C(10,-14). The robot came from A, drove the stem, came back up it to B and set off west,
+// but stalled right after setting off (it stood inside the stem's mouth): the west branch is
+// forced closed. For the rest of that visit it stays closed (the robot goes back down the stem:
+// setting off west again from the same place would stall again). On the next arrival at B
+// it is open again with reopen_blocked_driven, and the patrol takes it (least recently taken);
+// without, B is a dead end for good and the robot shuttles between B and C.
+TEST(TopoMap, DrivenCorridorBlockedAtSetOffIsReopenedOnTheNextArrival) {
+  for (const bool reopen : {false, true}) {
+    SCOPED_TRACE(reopen ? "reopen_blocked_driven" : "closed for good");
+    TopoMapOptions options;
+    options.reopen_blocked_driven = reopen;
+    TopoMap map(options);
+    const int a = map.Arrive({0.0, 0.0}, 0, /*came_along=*/false);
+    map.SetBranch(a, 2, Branch::kWall);
+    map.SetBranch(a, 1, Branch::kWall);
+    map.SetBranch(a, 3, Branch::kWall);
+    map.Depart(a, 0);
+    const int b = map.Arrive({10.0, 0.0}, 0);  // along the bar, eastward
+    map.SetBranch(b, 0, Branch::kWall);
+    map.SetBranch(b, 1, Branch::kWall);
+    map.Depart(b, 3);  // into the stem
+    const int c = map.Arrive({10.0, -14.0}, 3);
+    map.SetBranch(c, 0, Branch::kWall);
+    map.SetBranch(c, 2, Branch::kWall);
+    map.SetBranch(c, 3, Branch::kWall);
+    map.Depart(c, 1);
+    ASSERT_EQ(map.Arrive({10.0, -0.4}, 1), b);  // back up the stem, stopped in its mouth
+    ASSERT_EQ(map.Nodes()[b].branch[2], Branch::kExplored);
+    ASSERT_EQ(map.Nodes()[b].neighbour[2], a);
+    EXPECT_EQ(map.ChooseBranch(b, 1), 2);  // the patrol: west, taken longest ago
+    map.Depart(b, 2);
+    map.CancelDeparture();                        // stalled right after setting off...
+    map.SetBranch(b, 2, Branch::kWall, /*force=*/true);  // ...so the branch is closed
+    EXPECT_EQ(map.Nodes()[b].branch[2], Branch::kWall);
+    EXPECT_EQ(map.ChooseBranch(b, 2), 3);  // this visit: back down the stem either way
+    map.Depart(b, 3);
+    ASSERT_EQ(map.Arrive({10.0, -14.0}, 3), c);
+    map.Depart(c, 1);
+    ASSERT_EQ(map.Arrive({10.1, -0.3}, 1), b);
+    if (reopen) {
+      EXPECT_EQ(map.Nodes()[b].branch[2], Branch::kExplored);
+      EXPECT_EQ(map.ChooseBranch(b, 1), 2);  // west again, from another stop
+    } else {
+      EXPECT_EQ(map.Nodes()[b].branch[2], Branch::kWall);
+      EXPECT_EQ(map.ChooseBranch(b, 1), 3);  // the stem once more, for the rest of the run
+    }
+    // A branch closed by looking (not a driven corridor found blocked) stays closed either way.
+    EXPECT_EQ(map.Nodes()[b].branch[0], Branch::kWall);
+    EXPECT_EQ(map.Nodes()[b].branch[1], Branch::kWall);
+  }
+}
+
 TEST(TopoMap, OptionsValidate) {
   TopoMapOptions o;
   EXPECT_TRUE(o.Validate().empty());

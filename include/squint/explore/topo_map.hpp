@@ -24,6 +24,14 @@ const char* BranchName(Branch b);
 struct TopoMapOptions {
   // Stops closer than this to an existing node are the same place (odometry drift included).
   double merge_radius_m = 3.0;
+  // A corridor the robot has driven (a branch with a neighbour) that SetBranch(..., force) closed
+  // because the robot found it blocked right after setting off along it is closed for the rest of
+  // that visit only: the next arrival at the node opens it again (explored). The robot stood
+  // somewhere it could not set off from (inside a side branch's mouth, beside a corner), which
+  // says nothing of the corridor. Otherwise a T whose bar was closed that way from its stem leaves
+  // the robot shuttling between the stem's dead end and the T for the rest of the run (`default`,
+  // 45 minutes with --wall-line-align: coverage 0.21). false: closed for good (before session 35).
+  bool reopen_blocked_driven = false;
   std::string Validate() const;
 };
 
@@ -33,6 +41,9 @@ struct TopoNode {
   std::array<int, 4> neighbour{-1, -1, -1, -1};  // node reached along each branch, -1 when none yet
   std::array<double, 4> length_m{0.0, 0.0, 0.0, 0.0};
   std::array<int, 4> last_departure{-1, -1, -1, -1};  // departure counter when last taken
+  // Driven, then forced closed (found blocked right after setting off along it): reopened on the
+  // next arrival when TopoMapOptions::reopen_blocked_driven.
+  std::array<bool, 4> blocked_driven{false, false, false, false};
   int arrivals = 0;
 };
 
@@ -52,7 +63,8 @@ class TopoMap {
   // did not come in along that branch (it started here, facing that way), which stays as it was.
   int Arrive(const Eigen::Vector2d& position_m, int travel_dir, bool came_along = true);
   // What looking (or bumping) told about a branch. An explored branch stays explored unless
-  // `force` (the robot found it blocked right after setting off along it).
+  // `force` (the robot found it blocked right after setting off along it; with
+  // reopen_blocked_driven a driven one is reopened on the next arrival).
   void SetBranch(int node, int dir, Branch state, bool force = false);
   // The robot leaves `node` along `dir`.
   void Depart(int node, int dir);
