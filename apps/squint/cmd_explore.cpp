@@ -121,8 +121,8 @@ struct ExplorerVariants {
   double known_end_disagree_m = 0.0;
   // A far column whose bottom differs this much from the floor is blocked near (explore::VisualSonarOptions::far_floor_max_diff; 0: off; 40 since session 26).
   double far_floor_diff = 40.0;
-  // ...and a step in range this far or farther too (explore::VisualSonarOptions::far_floor_from_m; 0: far only).
-  double far_floor_from_m = 0.0;
+  // ...and a step in range this far or farther too (explore::VisualSonarOptions::far_floor_from_m; 0: far only; 2 since session 36).
+  double far_floor_from_m = 2.0;
   // The floor reference from boundary columns first (explore::VisualSonarOptions::floor_ref_boundaries; off).
   bool floor_ref_boundaries = false;
   // A view smooth all over does not become the floor's texture reference (ExplorerOptions::blind_texture_keep_ref;
@@ -325,7 +325,7 @@ struct ExplorerVariants {
         ->capture_default_str()
         ->check(CLI::Range(0.0, 255.0));
     cmd->add_option("--far-floor-from", far_floor_from_m,
-                    text("With --far-floor-diff: a column whose step lies this far or farther (metres) is judged the same way, not only one whose step is at the horizon: the top edge of something standing within the blind range a little lower than the camera lies metres out on the floor (0: far steps only, the default; docs/explore.md, session 34)"))
+                    text("With --far-floor-diff: a column whose step lies this far or farther (metres) is judged the same way, not only one whose step is at the horizon: the top edge of something standing within the blind range a little lower than the camera lies metres out on the floor (0: far steps only; 2 by default since session 36; docs/explore.md, sessions 34 and 36)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 20.0));
     cmd->add_flag("--floor-ref-boundaries,!--no-floor-ref-boundaries", floor_ref_boundaries,

@@ -401,7 +401,8 @@ TEST(VisualSonar, AStepInRangeOverABottomUnlikeTheFloorIsSomethingStandingNearFr
   for (int u = 40; u < 52; ++u)
     for (int v = edge + 1; v < 48; ++v) im.At(u, v) = 65;
   VisualSonarOptions o;
-  EXPECT_EQ(o.far_floor_from_m, 0.0);  // the default: far steps only
+  EXPECT_EQ(o.far_floor_from_m, 2.0);  // the default since session 36
+  o.far_floor_from_m = 0.0;            // far steps only
   VisualSonar plain(cam, o);
   const auto& before = plain.Process(im.View());
   const double range = before[45].range_m;  // the top edge read as the floor's end

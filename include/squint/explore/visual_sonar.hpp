@@ -51,8 +51,9 @@ struct VisualSonarOptions {
   // standing of height H a little under the camera's height hc, at range d, puts its top edge at
   // hc / (hc - H) × d: the default building's bin, 0.45 m tall under a 0.6 m camera, its near side
   // 0.73 m ahead, has its top edge at 2.9 m, and its dark face from the bottom row up read as floor
-  // running to a wall there (default, start 7 of seed 70). 0 (the default): far steps only.
-  double far_floor_from_m = 0.0;
+  // running to a wall there (default, start 7 of seed 70). 0: far steps only; 2 by default since
+  // session 36 (docs/explore.md: measured on every seed 1-92).
+  double far_floor_from_m = 2.0;
   // The frame's floor reference (the median bottom of the columns with a clear step) taken from
   // the columns whose step is a boundary in range only, when at least min_reference_columns (and
   // 3) have one; far columns join it only otherwise. A box 0.45 m tall filling 50 of 64 columns
