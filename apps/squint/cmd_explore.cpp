@@ -156,6 +156,9 @@ struct ExplorerVariants {
   int contact_frames = 2;  // ...on this many steps in a row (ExplorerOptions::contact_frames)
   // Soft points along a blocked-near column's ray from this range on (ObstacleMemoryOptions::blind_points_from_m; 0: off; 0.6).
   double blind_points_from_m = 0.6;
+  double blind_points_keep_s = 5.0;  // ...forgotten after this long (ObstacleMemoryOptions::blind_points_keep_s)
+  // ...those of a near thing's edge after this long (ObstacleMemoryOptions::blind_points_edge_keep_s; 0: as the others).
+  double blind_points_edge_keep_s = 0.0;
   // A side wall abeam needs another point within this distance (ExplorerOptions::side_wall_cluster_m; 0: nearest point).
   double side_wall_cluster_m = 0.15;
   // The floor-edge band cleared only across the opening's span (ExplorerOptions::floor_edge_band_mouth).
@@ -219,6 +222,8 @@ struct ExplorerVariants {
     ro.explorer.feel_contacts = feel_contacts;
     ro.explorer.contact_frames = contact_frames;
     ro.explorer.memory.blind_points_from_m = blind_points_from_m;
+    ro.explorer.memory.blind_points_keep_s = blind_points_keep_s;
+    ro.explorer.memory.blind_points_edge_keep_s = blind_points_edge_keep_s;
     ro.explorer.side_wall_cluster_m = side_wall_cluster_m;
     ro.explorer.floor_edge_band_mouth = floor_edge_band_mouth;
     ro.explorer.guard_unknown_step_m = guard_unknown_step_m;
@@ -369,9 +374,17 @@ struct ExplorerVariants {
         ->capture_default_str()
         ->check(CLI::Range(1, 100));
     cmd->add_option("--blind-points-from", blind_points_from_m,
-                    text("A visual-sonar column blocked near is also remembered for 5 s as soft points along its ray from this range (metres) out to the blind range, where the floor was not seen (0: off; 0.6 by default)"))
+                    text("A visual-sonar column blocked near is also remembered for 5 s (--blind-points-keep) as soft points along its ray from this range (metres) out to the blind range, where the floor was not seen (0: off; 0.6 by default)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 5.0));
+    cmd->add_option("--blind-points-keep", blind_points_keep_s,
+                    text("With --blind-points-from: soft points are forgotten after this many seconds (5 by default)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.1, 600.0));
+    cmd->add_option("--blind-points-edge-keep", blind_points_edge_keep_s,
+                    text("With --blind-points-from: the soft points of a near thing's edge (a run of blocked-near columns with no floor step near the blind range beside it: a convex corner or an obstacle's side, not a wall running on into the blind zone) are forgotten after this many seconds instead, long enough to outlast a full look around in place at the scan rate (10.5 s) and the alignment after it (0: as the others; docs/explore.md, session 37)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 600.0));
     cmd->add_option("--side-wall-cluster", side_wall_cluster_m,
                     text("A side wall seen abeam (the side branches' wall runs and lines) is the nearest remembered point with another within this many metres of it, not one isolated point: one point 0.25 m inside a wall moved that wall's line inward, and the robot stopped for a false opening 2 m before an L corner and turned there (0: the nearest point; 0.15 by default since session 23; docs/explore.md, session 23)"))
         ->capture_default_str()

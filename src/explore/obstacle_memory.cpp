@@ -20,6 +20,7 @@ std::string ObstacleMemoryOptions::Validate() const {
   if (!(clear_blind_min_range_m >= 0.0) || !std::isfinite(clear_blind_min_range_m)) return "clear_blind_min_range_m must be >= 0";
   if (!(blind_points_from_m >= 0.0) || !std::isfinite(blind_points_from_m)) return "blind_points_from_m must be >= 0";
   if (!(blind_points_keep_s > 0.0) || !std::isfinite(blind_points_keep_s)) return "blind_points_keep_s must be positive";
+  if (!(blind_points_edge_keep_s >= 0.0) || !std::isfinite(blind_points_edge_keep_s)) return "blind_points_edge_keep_s must be >= 0";
   if (confirm_scans < 0 || confirm_scans > 1000) return "confirm_scans must be in [0, 1000]";
   if (!(clear_own_within_m >= 0.0) || !std::isfinite(clear_own_within_m)) return "clear_own_within_m must be zero or positive";
   if (!(confirm_baseline_m >= 0.0) || !std::isfinite(confirm_baseline_m)) return "confirm_baseline_m must be >= 0";
@@ -150,17 +151,21 @@ void ObstacleMemory::InsertConfirmed(const Eigen::Vector2d& p, double stamp_s) {
   c.confirmed = true;
 }
 
-void ObstacleMemory::InsertBlindRay(const Eigen::Vector2d& origin, double yaw, double to_m, double stamp_s) {
+void ObstacleMemory::InsertBlindRay(const Eigen::Vector2d& origin, double yaw, double to_m, double stamp_s, bool edge) {
   if (!(options_.blind_points_from_m > 0.0)) return;
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
+  const double keep_s = edge && options_.blind_points_edge_keep_s > 0.0 ? options_.blind_points_edge_keep_s : options_.blind_points_keep_s;
   for (double s = options_.blind_points_from_m; s <= to_m; s += options_.cell_m) {
     const Eigen::Vector2d p = origin + s * d;
     Cell& c = At(p);
     if (c.free_stamp_s >= 0.0 && stamp_s - c.free_stamp_s <= options_.keep_seconds) continue;  // floor seen there
     if (c.stamp_s >= 0.0 && !c.soft) continue;  // a boundary seen there: keep it
+    // A soft point already there keeps the later of the two ends (an edge's longer life).
+    const double keep = c.stamp_s >= 0.0 ? std::max(c.soft_keep_s - (stamp_s - c.stamp_s), keep_s) : keep_s;
     c.p = p;
     c.stamp_s = stamp_s;
     c.soft = true;
+    c.soft_keep_s = keep;
     c.scans = 0;
     c.confirmed = false;
   }
@@ -236,10 +241,14 @@ bool ObstacleMemory::SeenFree(const Eigen::Vector2d& origin, double yaw, double 
   return true;
 }
 
-std::vector<char> ObstacleMemory::NearEdgeRuns(const std::vector<SonarColumn>& scan, double step_within_m) {
+std::vector<char> ObstacleMemory::NearEdgeRuns(const std::vector<SonarColumn>& scan, double step_within_m,
+                                               bool floor_beside) {
   std::vector<char> edge(scan.size(), 0);
   const auto step_near = [&](std::size_t k) {
     return scan[k].kind == SonarReturn::kBoundary && scan[k].range_m < step_within_m;
+  };
+  const auto floor_far = [&](std::size_t k) {
+    return scan[k].kind == SonarReturn::kFar || (scan[k].kind == SonarReturn::kBoundary && scan[k].range_m >= step_within_m);
   };
   for (std::size_t i = 0; i < scan.size();) {
     if (scan[i].kind != SonarReturn::kBlockedNear) {
@@ -248,7 +257,11 @@ std::vector<char> ObstacleMemory::NearEdgeRuns(const std::vector<SonarColumn>& s
     }
     std::size_t j = i;  // the run is columns i..j
     while (j + 1 < scan.size() && scan[j + 1].kind == SonarReturn::kBlockedNear) ++j;
-    const char e = !(i > 0 && step_near(i - 1)) && !(j + 1 < scan.size() && step_near(j + 1)) ? 1 : 0;
+    const bool far_beside = (i > 0 && floor_far(i - 1)) || (j + 1 < scan.size() && floor_far(j + 1));
+    const char e = !(i > 0 && step_near(i - 1)) && !(j + 1 < scan.size() && step_near(j + 1)) &&
+                           (!floor_beside || far_beside)
+                       ? 1
+                       : 0;
     std::fill(edge.begin() + static_cast<std::ptrdiff_t>(i), edge.begin() + static_cast<std::ptrdiff_t>(j + 1), e);
     i = j + 1;
   }
@@ -272,6 +285,12 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
   // Which blocked-near columns belong to a near thing's edge (blocked_edge_step_m): runs of them
   // whose neighbours show no floor step near the blind range.
   const std::vector<char> edge = NearEdgeRuns(scan, near_blind_m + options_.blocked_edge_step_m);
+  // ...and which of those end in floor running far on a side the view has (a convex corner, an
+  // obstacle's side), not in the view's edge alone (a wall filling the view): their soft points
+  // are kept blind_points_edge_keep_s.
+  const std::vector<char> corner_edge =
+      options_.blind_points_edge_keep_s > 0.0 ? NearEdgeRuns(scan, near_blind_m + options_.blocked_edge_step_m, true)
+                                              : std::vector<char>(scan.size(), 0);
   n_blocked_ = 0;
   n_columns_ = static_cast<int>(scan.size());
   blocked_from_ = o;
@@ -307,7 +326,7 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
         // would block later paths wherever it is put), but held as the latest scan's blockage.
         blocked_edge_[static_cast<std::size_t>(n_blocked_)] = edge[ci];
         blocked_yaws_[static_cast<std::size_t>(n_blocked_++)] = yaw;
-        InsertBlindRay(o, yaw, near_blind_m, stamp_s);
+        InsertBlindRay(o, yaw, near_blind_m, stamp_s, corner_edge[ci] != 0);
         break;
       case SonarReturn::kBoundary: {
         const double from = c.range_m >= options_.clear_blind_min_range_m ? 0.0 : near_blind_m;
@@ -341,7 +360,7 @@ void ObstacleMemory::Gather(const Pose2& odom_T_robot, double stamp_s) {
     for (int i = i0; i <= i1; ++i) {
       Cell& c = cells_[static_cast<std::size_t>(jj * n + ((i % n) + n) % n)];
       if (c.stamp_s < 0.0) continue;
-      if (stamp_s - c.stamp_s > (c.soft ? options_.blind_points_keep_s : options_.keep_seconds)) {
+      if (stamp_s - c.stamp_s > (c.soft ? c.soft_keep_s : options_.keep_seconds)) {
         c.stamp_s = -1.0;
         continue;
       }

@@ -40,6 +40,15 @@ struct ObstacleMemoryOptions {
   // robot turns) known. 0 turns them off.
   double blind_points_from_m = 0.6;
   double blind_points_keep_s = 5.0;   // soft points older than this are forgotten
+  // ...except those of a near thing's edge (a run of blocked-near columns with no floor step near
+  // the blind range beside it, blocked_edge_step_m, and floor running on beyond that on at least
+  // one side: a convex corner or an obstacle's side, not a wall running on into the blind zone nor
+  // one filling the view), kept this long (seconds; 0: blind_points_keep_s, the default). 15 s
+  // outlasts a full look around in place (10.5 s at the explorer's scan rate) and the alignment
+  // after it: with 5 s a convex corner seen in the first half of a start's scan is forgotten by
+  // the set-off (corridor-7, start 4 of seed 98). Every soft point kept that long (not only an
+  // edge's) held robots still in corridor-1's narrow cross corridor (docs/explore.md, session 37).
+  double blind_points_edge_keep_s = 0.0;
   // A boundary seen again at the same place (cell) by this many scans, from positions at least
   // confirm_baseline_m apart, is confirmed: floor seen beyond it later no longer removes it (only
   // age does). Something standing stays where it is as the robot moves; what contradicts it is
@@ -115,7 +124,11 @@ class ObstacleMemory {
   // Per column of `scan`: 1 where it is blocked near and its run of blocked-near columns is a near
   // thing's edge, no neighbouring column of the run a floor step nearer than `step_within_m`
   // (blocked_edge_step_m); 0 elsewhere.
-  static std::vector<char> NearEdgeRuns(const std::vector<SonarColumn>& scan, double step_within_m);
+  // `floor_beside`: only runs with a neighbouring column (where the view has one) whose floor runs
+  // on to step_within_m or farther (a boundary there or beyond, or floor to the horizon), not a run
+  // bounded by the view's edges or by unknown columns alone.
+  static std::vector<char> NearEdgeRuns(const std::vector<SonarColumn>& scan, double step_within_m,
+                                        bool floor_beside = false);
   // Collects the remembered points within the query radius of `odom_T_robot` (call once after
   // the robot moved, before the queries below).
   void Gather(const Pose2& odom_T_robot, double stamp_s);
@@ -189,6 +202,7 @@ class ObstacleMemory {
     double stamp_s = -1.0;       // < 0: empty
     double free_stamp_s = -1.0;  // when floor was last seen here (< 0: never)
     bool soft = false;           // from a blocked-near column (position along its ray unknown)
+    double soft_keep_s = 0.0;    // a soft point is forgotten this long after stamp_s
     int scans = 0;               // scans that saw a boundary in this cell (see confirm_scans)
     Eigen::Vector2d first_from = Eigen::Vector2d::Zero();  // where the first of them was taken
     bool confirmed = false;
@@ -213,7 +227,8 @@ class ObstacleMemory {
   // Marks the cells along a column's ray in the near blind zone (to to_m) known free.
   void MarkBlindKnownFree(const Eigen::Vector2d& origin, const Eigen::Vector2d& d, double to_m, double stamp_s);
   // Soft points along a blocked-near ray where the floor was not seen.
-  void InsertBlindRay(const Eigen::Vector2d& origin, double yaw, double to_m, double stamp_s);
+  // `edge`: the column belongs to a near thing's edge (kept blind_points_edge_keep_s).
+  void InsertBlindRay(const Eigen::Vector2d& origin, double yaw, double to_m, double stamp_s, bool edge);
   // Removes points along the ray from from_m to to_m; marks floor seen from seen_from_m on.
   void ClearRay(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double seen_from_m, double stamp_s);
 
