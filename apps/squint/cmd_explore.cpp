@@ -74,6 +74,8 @@ struct ExplorerVariants {
   bool wall_lines_binned = true;
   // Mouth centring bounded by the corridor's own wall line as it stands now (ExplorerOptions::mouth_wall_line; on since session 17).
   bool mouth_wall_line = true;
+  // Mouth centring leaves out stray points that would split a mouth (ExplorerOptions::mouth_drop_strays).
+  bool mouth_drop_strays = false;
   // The walls' lines also set the axis in the start-up scan and alignment (ExplorerOptions::wall_line_align; off).
   bool wall_line_align = false;
   // An opening beside a junction whose side was judged a wall is looked at (ExplorerOptions::opening_beside_wall_node; off).
@@ -187,6 +189,7 @@ struct ExplorerVariants {
     ro.explorer.rearm_after_gap = rearm_after_gap;
     ro.wall_lines_binned = wall_lines_binned;
     ro.explorer.mouth_wall_line = mouth_wall_line;
+    ro.explorer.mouth_drop_strays = mouth_drop_strays;
     ro.explorer.wall_line_align = wall_line_align;
     ro.explorer.opening_beside_wall_node = opening_beside_wall_node;
     ro.explorer.arrival_min_travel_m = arrival_min_travel_m;
@@ -269,6 +272,8 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 8.0));
     cmd->add_flag("--mouth-wall-line,!--no-mouth-wall-line", mouth_wall_line,
                   text("Mouth centring takes the corridor's wall line where it stands now (moved by the robot's sideways travel since it was read) and its remembered points as bounds too, so a gap along which the wall still stands is no mouth (on by default; docs/explore.md, session 17)"));
+    cmd->add_flag("--mouth-drop-strays,!--no-mouth-drop-strays", mouth_drop_strays,
+                  text("Mouth centring leaves out a remembered point with no other within 0.3 m along the axis: one stray point inside a mouth split it into two gaps, neither with a wall on both sides, and the robot turned into corridor-8's cross corridor from 1 m off its centre line (off by default; docs/explore.md, session 37)"));
     cmd->add_flag("--wall-line-align,!--no-wall-line-align", wall_line_align,
                   text("With --wall-lines: their frames are also taken while scanning and aligning at a standstill, and their heading modulo 90 degrees sets the axis there (off by default; docs/explore.md, session 17)"));
     cmd->add_flag("--opening-beside-wall-node,!--no-opening-beside-wall-node", opening_beside_wall_node,

@@ -1638,22 +1638,37 @@ bool Explorer::MouthCentre(const Percept& p, int side, double* along_m) const {
   // corridor the near wall of a branch wider than the corridor is seen only from far off, if at all.
   const SideTrack& tr = sides_[side];
   if (tr.wall_first_m >= 0.0) along.insert(along.end(), 2, WallRunEndAlong(side));
+  const std::optional<double> centre = MouthGapCentre(std::move(along), opt_);
+  if (!centre) return false;
+  *along_m = *centre;
+  return true;
+}
+
+std::optional<double> MouthGapCentre(std::vector<double> along, const ExplorerOptions& options) {
   std::sort(along.begin(), along.end());
   constexpr double kCluster = 0.3;
+  if (options.mouth_drop_strays) {
+    // A point with no other within kCluster is no wall: it must not split a mouth in two.
+    std::vector<double> kept;
+    kept.reserve(along.size());
+    for (std::size_t i = 0; i < along.size(); ++i)
+      if ((i > 0 && along[i] - along[i - 1] <= kCluster) || (i + 1 < along.size() && along[i + 1] - along[i] <= kCluster))
+        kept.push_back(along[i]);
+    along.swap(kept);
+  }
   bool found = false;
   double best = 0.0;
   for (std::size_t i = 1; i + 2 < along.size(); ++i) {
     const double width = along[i + 1] - along[i];
-    if (width < opt_.branch_min_width_m || width > opt_.branch_max_width_m) continue;
+    if (width < options.branch_min_width_m || width > options.branch_max_width_m) continue;
     // Each side of the gap a wall (two points at least), not one stray point.
     if (along[i] - along[i - 1] > kCluster || along[i + 2] - along[i + 1] > kCluster) continue;
     const double centre = 0.5 * (along[i] + along[i + 1]);
     if (!found || std::abs(centre) < std::abs(best)) best = centre;
     found = true;
   }
-  if (!found || std::abs(best) > opt_.mouth_centre_max_m) return false;
-  *along_m = best;
-  return true;
+  if (!found || std::abs(best) > options.mouth_centre_max_m) return std::nullopt;
+  return best;
 }
 
 Command Explorer::ShiftStep(const Percept& p) {

@@ -619,6 +619,28 @@ TEST(ExploreCli, ACornerSeenDuringTheLookAroundIsStillKnownAtTheSetOff) {
   std::filesystem::remove_all(dir);
 }
 
+// corridor-8, seeded start 3 of seed 108 (session 37, a fresh seed): the robot stops for the cross
+// corridor's south opening as its right wall ends, 1 m short of the cross's centre line, and turns
+// into the north branch. One stray remembered point inside the mouth splits it, mouth centring
+// finds no centre, and the robot drives north 1 m off the branch's centre line and meets its near
+// corner at 79.8 s. With --mouth-drop-strays it first moves 0.78 m along to the centre line and
+// meets nothing.
+TEST(ExploreCli, AStrayPointInsideAMouthDoesNotKeepTheRobotOffItsCentre) {
+  const auto dir = TempDir("mouth-drop-strays");
+  auto summary = [&](const std::string& name, const std::string& flag) {
+    return ExploreSummary(dir / name, "--world corridor-8 --seed 108 --eval-start 3 --minutes 1.4" + flag);
+  };
+  const nlohmann::json off = summary("off", "");
+  EXPECT_GT(off["collisions"].get<long>(), 0);
+  EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
+  EXPECT_NEAR(off["first_collision_x_m"].get<double>(), 12.9, 0.25 + 0.1);
+  EXPECT_NEAR(off["first_collision_y_m"].get<double>(), 1.4, 0.25 + 0.1);
+  const nlohmann::json on = summary("on", " --mouth-drop-strays");
+  EXPECT_EQ(on["collisions"].get<long>(), 0);
+  EXPECT_EQ(on["first_hit"].get<std::string>(), "");
+  std::filesystem::remove_all(dir);
+}
+
 // Two starts inside the camera's blind range of something standing, whose distance a blocked-near
 // sonar column does not tell. The obstacle course, start 1 of seed 4: after a full turn the robot
 // stood 0.36 m from the concrete column at (7.0, 0.6); its columns blocked near closed a sector of

@@ -6,9 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <optional>
+#include <vector>
 
 #include "squint/core/angles.hpp"
 
@@ -640,6 +642,41 @@ TEST(Explorer, MouthCentringMovesToTheBranchCentreBeforeTurning) {
       EXPECT_GT(std::abs(x_in_branch - 23.2), 0.4);
     }
   }
+}
+
+// Mouth centring's gap on the remembered points of corridor-8's cross corridor as the robot stood
+// at start 3 of seed 108 (session 37), 1 m short of the north branch's centre line: the corridor's
+// own wall up to its wall run's end at -0.47 m, one stray point at +0.03 m, and the branch's far
+// wall from 1.98 m. The stray splits the 2.4 m mouth into a 0.44 m gap (too narrow) and a 1.95 m
+// one whose near side is that one point (no wall), so no centre is found; left out, the mouth's
+// centre is half way between -0.41 and 1.98.
+TEST(Explorer, AStrayPointDoesNotSplitAMouth) {
+  std::vector<double> along = {-3.39, -3.29, -3.17, -3.15, -3.06, -3.03, -2.88, -2.50, -2.44, -2.36, -2.28, -2.22,
+                               -2.17, -2.01, -1.92, -1.77, -1.68, -1.67, -1.53, -1.44, -1.42, -1.39, -1.30, -1.25,
+                               -1.24, -1.18, -1.13, -1.10, -1.01, -0.88, -0.72, -0.65, -0.55, -0.50, -0.47, -0.47,
+                               -0.41, 0.03,  1.98,  1.99,  1.99,  2.00,  2.01,  2.03,  2.05,  2.10,  2.12,  2.17};
+  std::reverse(along.begin(), along.end());  // any order
+  ExplorerOptions o;
+  EXPECT_FALSE(MouthGapCentre(along, o).has_value());
+  o.mouth_drop_strays = true;
+  const std::optional<double> centre = MouthGapCentre(along, o);
+  ASSERT_TRUE(centre.has_value());
+  EXPECT_NEAR(*centre, 0.5 * (-0.41 + 1.98), 1e-12);
+  // Without the stray both agree.
+  std::erase(along, 0.03);
+  o.mouth_drop_strays = false;
+  ASSERT_TRUE(MouthGapCentre(along, o).has_value());
+  EXPECT_NEAR(*MouthGapCentre(along, o), 0.5 * (-0.41 + 1.98), 1e-12);
+  // A gap wider than branch_max_width_m, or a centre beyond mouth_centre_max_m, is none.
+  o.branch_max_width_m = 2.0;
+  EXPECT_FALSE(MouthGapCentre(along, o).has_value());
+  o = ExplorerOptions{};
+  o.mouth_centre_max_m = 0.5;
+  EXPECT_FALSE(MouthGapCentre(along, o).has_value());
+  // Strays alone are no walls: nothing is left.
+  o = ExplorerOptions{};
+  o.mouth_drop_strays = true;
+  EXPECT_FALSE(MouthGapCentre({-2.0, 0.0, 2.0}, o).has_value());
 }
 
 // An L corner into a 2 m branch (x = 23 to 25) whose corridor wall, for the last 1.4 m before the

@@ -547,6 +547,13 @@ struct ExplorerOptions {
   // corner metres before the real one, otherwise sends the robot back into the wall's end).
   // On by default (`squint explore --no-mouth-wall-line`; docs/explore.md, session 17).
   bool mouth_wall_line = true;
+  // Mouth centring leaves out a remembered point with no other within the clusters' 0.3 m along
+  // the axis: one stray point inside a mouth splits it into two gaps, neither with a wall of two
+  // points on both sides, and no centre is found (corridor-8's cross, starts 8 of seed 95 and 3 of
+  // seed 108: a point 0.1 m past the near corner, the robot turned into the branch from 1 m off its
+  // centre line and met the corner). Off by default (`squint explore --mouth-drop-strays`;
+  // docs/explore.md, session 37).
+  bool mouth_drop_strays = false;
   // A stop's node marks the branch the robot came in by as explored only when it came along it:
   // it departed from a node, or it has driven at least this far since it set off (a robot that
   // starts in a junction has not driven the corridor behind it, which may be a wall). 0 marks it
@@ -611,6 +618,13 @@ struct SideTrack {
 // break longer than branch_wall_gap_m, or with rearm_after_gap one after a break already handled
 // as an opening) instead of continuing it.
 bool StartsNewWallRun(const SideTrack& track, double travel_m, const ExplorerOptions& options);
+// Mouth centring's gap: `along` holds where the remembered points of a side branch's walls (and
+// the near corner where that side's wall run ended) lie along the axis from the robot. The mouth
+// is the gap between two clusters (at least 2 points within 0.3 m each), branch_min_width_m to
+// branch_max_width_m wide, whose centre lies nearest the robot; with mouth_drop_strays points with
+// no other within 0.3 m are left out first. Its centre, or none where there is no such gap within
+// mouth_centre_max_m.
+std::optional<double> MouthGapCentre(std::vector<double> along, const ExplorerOptions& options);
 
 class Explorer {
  public:
