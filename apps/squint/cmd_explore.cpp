@@ -387,7 +387,7 @@ struct ExplorerVariants {
         ->capture_default_str()
         ->check(CLI::Range(0.1, 600.0));
     cmd->add_option("--blind-points-edge-keep", blind_points_edge_keep_s,
-                    text("With --blind-points-from: the soft points of a near thing's edge (a run of blocked-near columns with no floor step near the blind range beside it: a convex corner or an obstacle's side, not a wall running on into the blind zone) are forgotten after this many seconds instead, long enough to outlast a full look around in place at the scan rate (10.5 s) and the alignment after it (0: as the others; docs/explore.md, session 37)"))
+                    text("With --blind-points-from: the soft points of a near thing's edge (a run of blocked-near columns with no floor step near the blind range beside it and floor running on beyond that on at least one side: a convex corner or an obstacle's side, not a wall running on into the blind zone nor one filling the view) are forgotten after this many seconds instead, long enough to outlast a full look around in place at the scan rate (10.5 s) and the alignment after it (0: as the others; docs/explore.md, session 37)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 600.0));
     cmd->add_option("--side-wall-cluster", side_wall_cluster_m,

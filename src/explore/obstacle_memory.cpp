@@ -154,7 +154,7 @@ void ObstacleMemory::InsertConfirmed(const Eigen::Vector2d& p, double stamp_s) {
 void ObstacleMemory::InsertBlindRay(const Eigen::Vector2d& origin, double yaw, double to_m, double stamp_s, bool edge) {
   if (!(options_.blind_points_from_m > 0.0)) return;
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
-  const double keep_s = edge && options_.blind_points_edge_keep_s > 0.0 ? options_.blind_points_edge_keep_s : options_.blind_points_keep_s;
+  const double keep_s = edge ? options_.blind_points_edge_keep_s : options_.blind_points_keep_s;
   for (double s = options_.blind_points_from_m; s <= to_m; s += options_.cell_m) {
     const Eigen::Vector2d p = origin + s * d;
     Cell& c = At(p);
@@ -288,9 +288,10 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
   // ...and which of those end in floor running far on a side the view has (a convex corner, an
   // obstacle's side), not in the view's edge alone (a wall filling the view): their soft points
   // are kept blind_points_edge_keep_s.
+  // Only computed where that longer life is on (an empty vector otherwise).
+  const bool long_edges = options_.blind_points_edge_keep_s > 0.0;
   const std::vector<char> corner_edge =
-      options_.blind_points_edge_keep_s > 0.0 ? NearEdgeRuns(scan, near_blind_m + options_.blocked_edge_step_m, true)
-                                              : std::vector<char>(scan.size(), 0);
+      long_edges ? NearEdgeRuns(scan, near_blind_m + options_.blocked_edge_step_m, true) : std::vector<char>{};
   n_blocked_ = 0;
   n_columns_ = static_cast<int>(scan.size());
   blocked_from_ = o;
@@ -326,7 +327,7 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
         // would block later paths wherever it is put), but held as the latest scan's blockage.
         blocked_edge_[static_cast<std::size_t>(n_blocked_)] = edge[ci];
         blocked_yaws_[static_cast<std::size_t>(n_blocked_++)] = yaw;
-        InsertBlindRay(o, yaw, near_blind_m, stamp_s, corner_edge[ci] != 0);
+        InsertBlindRay(o, yaw, near_blind_m, stamp_s, long_edges && corner_edge[ci] != 0);
         break;
       case SonarReturn::kBoundary: {
         const double from = c.range_m >= options_.clear_blind_min_range_m ? 0.0 : near_blind_m;
