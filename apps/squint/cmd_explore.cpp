@@ -161,6 +161,8 @@ struct ExplorerVariants {
   double blind_points_keep_s = 5.0;  // ...forgotten after this long (ObstacleMemoryOptions::blind_points_keep_s)
   // ...those of a near thing's edge after this long (ObstacleMemoryOptions::blind_points_edge_keep_s; 0: as the others).
   double blind_points_edge_keep_s = 0.0;
+  // ...and serve driving only (ObstacleMemoryOptions::blind_points_edge_keep_driving_only).
+  bool blind_points_edge_keep_driving_only = false;
   // A side wall abeam needs another point within this distance (ExplorerOptions::side_wall_cluster_m; 0: nearest point).
   double side_wall_cluster_m = 0.15;
   // The floor-edge band cleared only across the opening's span (ExplorerOptions::floor_edge_band_mouth).
@@ -227,6 +229,7 @@ struct ExplorerVariants {
     ro.explorer.memory.blind_points_from_m = blind_points_from_m;
     ro.explorer.memory.blind_points_keep_s = blind_points_keep_s;
     ro.explorer.memory.blind_points_edge_keep_s = blind_points_edge_keep_s;
+    ro.explorer.memory.blind_points_edge_keep_driving_only = blind_points_edge_keep_driving_only;
     ro.explorer.side_wall_cluster_m = side_wall_cluster_m;
     ro.explorer.floor_edge_band_mouth = floor_edge_band_mouth;
     ro.explorer.guard_unknown_step_m = guard_unknown_step_m;
@@ -390,6 +393,9 @@ struct ExplorerVariants {
                     text("With --blind-points-from: the soft points of a near thing's edge (a run of blocked-near columns with no floor step near the blind range beside it and floor running on beyond that on at least one side: a convex corner or an obstacle's side, not a wall running on into the blind zone nor one filling the view) are forgotten after this many seconds instead, long enough to outlast a full look around in place at the scan rate (10.5 s) and the alignment after it (0: as the others; docs/explore.md, session 37)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 600.0));
+    cmd->add_flag("--blind-points-edge-keep-driving-only,!--no-blind-points-edge-keep-driving-only",
+                  blind_points_edge_keep_driving_only,
+                  text("With --blind-points-edge-keep: an edge's soft points kept past --blind-points-keep stop and steer the robot but are left out of the judgements of walls and openings (the side walls abeam, a side opening's depth, an end, a side's probe): kept for every query, a convex corner beside a branch's mouth read as the wall going on, and the robot passed the mouth (off by default; docs/explore.md, session 38)"));
     cmd->add_option("--side-wall-cluster", side_wall_cluster_m,
                     text("A side wall seen abeam (the side branches' wall runs and lines) is the nearest remembered point with another within this many metres of it, not one isolated point: one point 0.25 m inside a wall moved that wall's line inward, and the robot stopped for a false opening 2 m before an L corner and turned there (0: the nearest point; 0.15 by default since session 23; docs/explore.md, session 23)"))
         ->capture_default_str()

@@ -495,7 +495,7 @@ bool Explorer::UseBlocked(double yaw) const {
            std::abs(WrapPi(yaw - axis_yaw_odom_)) < DegToRad(45.0));
 }
 
-double Explorer::Free(const Percept& p, double yaw, double max_m) const {
+double Explorer::Free(const Percept& p, double yaw, double max_m, bool judging) const {
   const bool use_blocked = UseBlocked(yaw);
   // Where the floor there was seen they are ignored, unless the latest frame shows a brick wall's
   // lines (trust_memory_max_wall_lines).
@@ -508,12 +508,12 @@ double Explorer::Free(const Percept& p, double yaw, double max_m) const {
   // Setting off where it stands, the robot keeps the near edges it held out of the view too.
   const double standing_m = setting_off_ ? opt_.setoff_standing_hold_m : 0.0;
   return memory_.FreeTravel(p.odom_T_robot, yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m, use_blocked,
-                            seen_free_exempts, min_range_m, standing_m);
+                            seen_free_exempts, min_range_m, standing_m, /*kept_edges=*/!judging);
 }
 
 double Explorer::FreeAcross(const Percept& p, double side_yaw, double line_m) const {
   const double max_m = opt_.branch_depth_m + 0.5;
-  if (line_m < 0.0) return Free(p, side_yaw, max_m);
+  if (line_m < 0.0) return Free(p, side_yaw, max_m, /*judging=*/true);
   // As Free (the remembered points only: the latest scan looks ahead, not across), leaving out the
   // band beyond the armed side's wall line where a floor edge seen through the opening lies.
   return memory_.PointsFreeTravel(p.odom_T_robot, side_yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m,
@@ -1108,7 +1108,7 @@ Command Explorer::FollowStep(const Percept& p) {
   double axis_free = opt_.lookahead_m;
   bool end_by_sonar = false;
   if (sonar_seen_) {
-    axis_free = Free(p, axis_yaw_odom_, opt_.lookahead_m);
+    axis_free = Free(p, axis_yaw_odom_, opt_.lookahead_m, /*judging=*/true);
     double gap_free = 0.0;
     if (axis_free < opt_.sonar_end_free_m && may_end) {
       BestGap(p, axis_yaw_odom_, &gap_free);
@@ -1370,7 +1370,7 @@ bool Explorer::OnOpening(const Percept& p, int side, double width_m) {
   const Eigen::Vector2d pos = map_pose_.Translation();
   const char* side_name = side == 0 ? "left" : "right";
   // Only where the corridor goes on: a corner (the end wall ahead) is left to the end detection.
-  const double ahead_free = Free(p, axis_yaw_odom_, opt_.lookahead_m + 1.0);
+  const double ahead_free = Free(p, axis_yaw_odom_, opt_.lookahead_m + 1.0, /*judging=*/true);
   if (ahead_free < opt_.sonar_end_gap_m) return false;
   const int known = map_.NodeNear(pos);
   if (known >= 0 && known == map_.DepartedFrom()) return false;  // still leaving that junction
@@ -1528,7 +1528,7 @@ Command Explorer::ProbeStep(const Percept& p) {
   if (sonar_seen_ && p.sonar == nullptr) return {};
   const double h = look_sum_ / look_count_;
   side_entropy_[probe_phase_] = h;
-  side_free_m_[probe_phase_] = sonar_seen_ ? Free(p, rot_.target_yaw, opt_.lookahead_m + 1.0) : -1.0;
+  side_free_m_[probe_phase_] = sonar_seen_ ? Free(p, rot_.target_yaw, opt_.lookahead_m + 1.0, /*judging=*/true) : -1.0;
   // With the sonar, a side is open when free for sonar_open_free_m; the side where the sonar
   // memory showed an opening while following is also open when the entropy rule says so (from
   // the mouth of a branch the sonar's blind range often holds a wall corner).
@@ -1545,7 +1545,8 @@ Command Explorer::ProbeStep(const Percept& p) {
   const bool open_by_memory = opt_.end_probe_memory && probe_at_end_ && sonar_seen_ && open_by_entropy &&
                               !(opt_.probe_wall_lines_memory && brick_facing) &&
                               memory_.FreeTravel(p.odom_T_robot, rot_.target_yaw, opt_.robot_radius_m + opt_.safety_margin_m,
-                                                 opt_.lookahead_m + 1.0, false, true) >= opt_.sonar_open_free_m;
+                                                 opt_.lookahead_m + 1.0, false, true, 0.0, 0.0, /*kept_edges=*/false) >=
+                                  opt_.sonar_open_free_m;
   // Where the floor has the walls' grey: the walls' lines show the side's corridor free.
   const bool open_by_lines = sonar_seen_ && WallLinesFree(p, rot_.target_yaw) &&
                              h >= opt_.sonar_open_min_entropy_ratio * last_ref_entropy_;

@@ -52,6 +52,7 @@ void ObstacleMemory::Clear() {
   held_.clear();
   view_half_rad_ = -1.0;
   gathered_.clear();
+  gathered_kept_.clear();
 }
 
 ObstacleMemory::Cell& ObstacleMemory::At(const Eigen::Vector2d& p) {
@@ -348,6 +349,7 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
 
 void ObstacleMemory::Gather(const Pose2& odom_T_robot, double stamp_s) {
   gathered_.clear();
+  gathered_kept_.clear();
   const double r = options_.query_radius_m;
   const double r2 = r * r;
   const Eigen::Vector2d o = odom_T_robot.Translation();
@@ -365,14 +367,17 @@ void ObstacleMemory::Gather(const Pose2& odom_T_robot, double stamp_s) {
         c.stamp_s = -1.0;
         continue;
       }
-      if ((c.p - o).squaredNorm() <= r2) gathered_.push_back(c.p);
+      if ((c.p - o).squaredNorm() > r2) continue;
+      const bool kept_only = options_.blind_points_edge_keep_driving_only && c.soft &&
+                             stamp_s - c.stamp_s > options_.blind_points_keep_s;
+      (kept_only ? gathered_kept_ : gathered_).push_back(c.p);
     }
   }
 }
 
 double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m,
                                   bool use_blocked, bool seen_free_exempts, double min_range_m,
-                                  double standing_m) const {
+                                  double standing_m, bool kept_edges) const {
   const double near_m = min_range_m > 0.0 ? min_range_m : options_.blocked_min_range_m;
   const Eigen::Vector2d o = odom_T_robot.Translation();
   double free = max_m;
@@ -403,7 +408,7 @@ double ObstacleMemory::FreeTravel(const Pose2& odom_T_robot, double yaw, double 
       }
     }
   free = blocking >= options_.blocked_hold_scans ? std::min(latest, held) : latest;
-  return std::min(free, PointsFreeTravel(odom_T_robot, yaw, radius_m, max_m));
+  return std::min(free, PointsFreeTravel(odom_T_robot, yaw, radius_m, max_m, 0.0, 0.0, kept_edges));
 }
 
 double ObstacleMemory::BlockedFree(const double* yaws, int n, const Eigen::Vector2d& from, double range_m,
@@ -430,20 +435,24 @@ double ObstacleMemory::BlockedFree(const double* yaws, int n, const Eigen::Vecto
 }
 
 double ObstacleMemory::PointsFreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m,
-                                        double skip_from_m, double skip_to_m) const {
+                                        double skip_from_m, double skip_to_m, bool kept_edges) const {
   const Eigen::Vector2d o = odom_T_robot.Translation();
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
   const double r2 = radius_m * radius_m;
   double free = max_m;
-  for (const Eigen::Vector2d& p : gathered_) {
-    const Eigen::Vector2d q = p - o;
-    const double s = q.dot(d);
-    const double l = d.x() * q.y() - d.y() * q.x();
-    if (l * l >= r2 || s < 0.0) continue;  // beside the swept band, or behind the centre
-    if (s > skip_from_m && s <= skip_to_m) continue;
-    const double hit = s - std::sqrt(r2 - l * l);
-    free = std::min(free, std::max(0.0, hit));
-  }
+  auto sweep = [&](const std::vector<Eigen::Vector2d>& points) {
+    for (const Eigen::Vector2d& p : points) {
+      const Eigen::Vector2d q = p - o;
+      const double s = q.dot(d);
+      const double l = d.x() * q.y() - d.y() * q.x();
+      if (l * l >= r2 || s < 0.0) continue;  // beside the swept band, or behind the centre
+      if (s > skip_from_m && s <= skip_to_m) continue;
+      const double hit = s - std::sqrt(r2 - l * l);
+      free = std::min(free, std::max(0.0, hit));
+    }
+  };
+  sweep(gathered_);
+  if (kept_edges) sweep(gathered_kept_);
   return free;
 }
 

@@ -728,7 +728,11 @@ class Explorer {
   // Whether the latest scan's blocked-near columns count in full along odometry yaw `yaw`
   // (false: the narrow sector; see trust_memory_after_m).
   bool UseBlocked(double yaw) const;
-  double Free(const Percept& p, double yaw, double max_m) const;
+  // The disc's free travel along odometry yaw `yaw` (ObstacleMemory::FreeTravel). `judging`: for
+  // a judgement of walls and openings (an end, a side's probe, a branch's depth), not for driving:
+  // the edges' soft points kept past blind_points_keep_s are left out
+  // (ObstacleMemoryOptions::blind_points_edge_keep_driving_only).
+  double Free(const Percept& p, double yaw, double max_m, bool judging = false) const;
   // Best heading (odometry yaw) near `desired_yaw` by free travel; its free travel in *free.
   // `left_m` / `right_m` (> 0): side walls at those lateral distances from the robot run along
   // the axis (gap_side_wall_max_m); a candidate's free travel ends where the disc would reach them.

@@ -49,6 +49,13 @@ struct ObstacleMemoryOptions {
   // the set-off (corridor-7, start 4 of seed 98). Every soft point kept that long (not only an
   // edge's) held robots still in corridor-1's narrow cross corridor (docs/explore.md, session 37).
   double blind_points_edge_keep_s = 0.0;
+  // With blind_points_edge_keep_s: an edge's soft points past blind_points_keep_s serve driving
+  // only (FreeTravel with kept_edges), not the judgements of where walls and openings are (the
+  // gathered points, the side distances, PointsFreeTravel). Kept 15 s for every query, the soft
+  // points of the convex corner beside `default`'s middle corridor's mouth read as its wall
+  // going on: the robot passed the mouth, stopped for the recess across from it and judged the
+  // corridor a wall (45-minute seeds 3 and 5; docs/explore.md, session 38). Off by default.
+  bool blind_points_edge_keep_driving_only = false;
   // A boundary seen again at the same place (cell) by this many scans, from positions at least
   // confirm_baseline_m apart, is confirmed: floor seen beyond it later no longer removes it (only
   // age does). Something standing stays where it is as the robot moves; what contradicts it is
@@ -147,13 +154,16 @@ class ObstacleMemory {
   // of a near thing's edge (blocked_edge_step_m) in a held scan taken within standing_m of the
   // gathered pose count outside the latest scan's view too (blocked_hold_in_view leaves them out
   // otherwise).
+  // `kept_edges` (blind_points_edge_keep_driving_only): false leaves out the edges' soft points
+  // kept past blind_points_keep_s, as the queries that judge walls and openings do.
   double FreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m, bool use_blocked = true,
-                    bool seen_free_exempts = true, double min_range_m = 0.0, double standing_m = 0.0) const;
+                    bool seen_free_exempts = true, double min_range_m = 0.0, double standing_m = 0.0,
+                    bool kept_edges = true) const;
   // The same sweep against the gathered points only (no blocked-near columns), leaving out the
   // points whose distance along `yaw` lies in (skip_from_m, skip_to_m] (none when skip_to_m <=
-  // skip_from_m).
+  // skip_from_m); the edges' kept soft points count only with `kept_edges`.
   double PointsFreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m, double skip_from_m = 0.0,
-                          double skip_to_m = 0.0) const;
+                          double skip_to_m = 0.0, bool kept_edges = false) const;
   // Nearest remembered point abeam on each side, as lateral distances from the robot along the
   // axis `axis_yaw` (odometry frame), among points within ±along_window_m along the axis.
   // Negative when none. With cluster_m > 0 a side's distance is that of the nearest point with
@@ -235,6 +245,9 @@ class ObstacleMemory {
   ObstacleMemoryOptions options_;
   std::vector<Cell> cells_;
   std::vector<Eigen::Vector2d> gathered_;
+  // With blind_points_edge_keep_driving_only: the gathered soft points older than
+  // blind_points_keep_s (an edge's, kept longer), which only driving queries see.
+  std::vector<Eigen::Vector2d> gathered_kept_;
   // The latest scan's blocked-near columns (odometry yaws), where it was taken, its blind range.
   std::vector<double> blocked_yaws_;
   std::vector<char> blocked_edge_;  // per blocked column of the latest scan: a near thing's edge
