@@ -395,7 +395,7 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 600.0));
     cmd->add_flag("--blind-points-edge-keep-driving-only,!--no-blind-points-edge-keep-driving-only",
                   blind_points_edge_keep_driving_only,
-                  text("With --blind-points-edge-keep: an edge's soft points kept past --blind-points-keep stop and steer the robot but are left out of the judgements of walls and openings (the side walls abeam, a side opening's depth, an end, a side's probe): kept for every query, a convex corner beside a branch's mouth read as the wall going on, and the robot passed the mouth (off by default; docs/explore.md, session 38)"));
+                  text("With --blind-points-edge-keep: an edge's soft points kept past --blind-points-keep stop and steer the robot but are left out of the judgements of walls and openings (the side walls abeam and the centring on them, a side opening's depth, an end, a side's probe): kept for every query they moved those judgements and the route with them, and at 45 minutes `default` missed its middle corridor on 2 of 8 seeds (off by default; docs/explore.md, session 38)"));
     cmd->add_option("--side-wall-cluster", side_wall_cluster_m,
                     text("A side wall seen abeam (the side branches' wall runs and lines) is the nearest remembered point with another within this many metres of it, not one isolated point: one point 0.25 m inside a wall moved that wall's line inward, and the robot stopped for a false opening 2 m before an L corner and turned there (0: the nearest point; 0.15 by default since session 23; docs/explore.md, session 23)"))
         ->capture_default_str()

@@ -1214,10 +1214,9 @@ TEST(ObstacleMemory, BlindZoneCornerOutlastsALookAround) {
 // With blind_points_edge_keep_driving_only the corner's soft points, past the 5 s every soft point
 // keeps, still close the heading for driving (FreeTravel with kept_edges, the default) but not for
 // the queries that judge walls and openings: FreeTravel without kept_edges, PointsFreeTravel, the
-// gathered points and the side distances see the memory as if the corner had not been seen. Kept
-// for every query, the convex corner beside `default`'s middle corridor's mouth read as its wall
-// going on (45-minute seeds 3 and 5: the mouth passed, the corridor judged a wall). Within the
-// 5 s, a fresh edge's points count for everything.
+// gathered points and the side distances see the memory as if the corner had not been seen (kept
+// for every query, the points moved the centring and the openings' judgements, and the route with
+// them). Within the 5 s, a fresh edge's points count for everything.
 TEST(ObstacleMemory, KeptEdgePointsServeDrivingOnly) {
   const std::vector<SonarColumn> corner = BlockedOnTheRight(3.0);
   const double right = -0.3;

@@ -51,10 +51,12 @@ struct ObstacleMemoryOptions {
   double blind_points_edge_keep_s = 0.0;
   // With blind_points_edge_keep_s: an edge's soft points past blind_points_keep_s serve driving
   // only (FreeTravel with kept_edges), not the judgements of where walls and openings are (the
-  // gathered points, the side distances, PointsFreeTravel). Kept 15 s for every query, the soft
-  // points of the convex corner beside `default`'s middle corridor's mouth read as its wall
-  // going on: the robot passed the mouth, stopped for the recess across from it and judged the
-  // corridor a wall (45-minute seeds 3 and 5; docs/explore.md, session 38). Off by default.
+  // gathered points, the side distances, PointsFreeTravel), which see them for
+  // blind_points_keep_s as every soft point. The longer life is for a set-off beside a corner
+  // seen during a look around; kept for every query the points also moved the centring and the
+  // side openings' judgements and with them the route, and at 45 minutes `default` missed its
+  // middle corridor on 2 of 8 seeds. For driving only, the 45-minute runs of seeds 1-17 are
+  // byte-identical to those without the longer life (docs/explore.md, session 38). Off by default.
   bool blind_points_edge_keep_driving_only = false;
   // A boundary seen again at the same place (cell) by this many scans, from positions at least
   // confirm_baseline_m apart, is confirmed: floor seen beyond it later no longer removes it (only
