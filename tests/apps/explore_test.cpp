@@ -602,7 +602,8 @@ TEST(ExploreCli, ABinALittleLowerThanTheCameraIsNoFloorRunningOnWithFarFloorFrom
 // points along those rays. Seen in the first half of the turn, they were forgotten after 5 s,
 // before the set-off at 13.6 s, and the robot swung toward the turn and met the corner at 16.2 s
 // (the defaults). Kept 15 s as a near thing's edge (--blind-points-edge-keep 15, off by default),
-// they close that heading and the robot meets nothing.
+// they close that heading and the robot meets nothing, also when the kept points serve driving
+// only (--blind-points-edge-keep-driving-only: the set-off's direction and the guard see them).
 TEST(ExploreCli, ACornerSeenDuringTheLookAroundIsStillKnownAtTheSetOff) {
   const auto dir = TempDir("blind-points-edge-keep");
   auto summary = [&](const std::string& name, const std::string& flag) {
@@ -616,6 +617,9 @@ TEST(ExploreCli, ACornerSeenDuringTheLookAroundIsStillKnownAtTheSetOff) {
   const nlohmann::json kept = summary("kept", " --blind-points-edge-keep 15");
   EXPECT_EQ(kept["collisions"].get<long>(), 0);
   EXPECT_EQ(kept["first_hit"].get<std::string>(), "");
+  const nlohmann::json driving = summary("driving", " --blind-points-edge-keep 15 --blind-points-edge-keep-driving-only");
+  EXPECT_EQ(driving["collisions"].get<long>(), 0);
+  EXPECT_EQ(driving["first_hit"].get<std::string>(), "");
   std::filesystem::remove_all(dir);
 }
 
