@@ -173,6 +173,9 @@ struct ExplorerVariants {
   double guard_unknown_after_m = 0.0;  // ...once the wheels travelled this far since the start
   // An opening's far edge only at points on that side's wall line (ExplorerOptions::far_edge_on_line).
   bool far_edge_on_line = false;
+  // Points beyond a side's wall line seen only from farther than this neither end nor block its
+  // opening (ExplorerOptions::branch_coarse_from_m; 0: off).
+  double branch_coarse_from_m = 0.0;
 
   void Apply(eval::ExploreRunOptions& ro) const {
     ro.explorer.filtered_axis_gain = heading_filter ? 0.2 : 0.0;
@@ -235,6 +238,7 @@ struct ExplorerVariants {
     ro.explorer.guard_unknown_step_m = guard_unknown_step_m;
     ro.explorer.guard_unknown_after_m = guard_unknown_after_m;
     ro.explorer.far_edge_on_line = far_edge_on_line;
+    ro.explorer.branch_coarse_from_m = branch_coarse_from_m;
   }
 
   void AddFlags(CLI::App* cmd, bool as_explore) {
@@ -412,6 +416,10 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 1000.0));
     cmd->add_flag("--far-edge-on-line,!--no-far-edge-on-line", far_edge_on_line,
                   text("With --floor-edge-openings: a side opening's far edge is a remembered point on that side's wall line (within the tolerance), where the wall resumes, the branch's far corner or an end wall lies, not one inside the branch: a cluster of points 0.6 m inside a dead end's mouth made it a door recess (off by default: on, `default`'s 45-minute run of seed 12 covers 0.999 instead of 0.918, but seeds 5, 8 and 11 of 16 miss the middle corridor on routes that part at the first junction; docs/explore.md, session 24)"));
+    cmd->add_option("--branch-coarse-from", branch_coarse_from_m,
+                    text("A remembered point beyond a side's wall line, last seen from farther than this many metres, neither ends that side's opening nor blocks its free-across test: seen through a mouth from afar, a branch's far wall's base is ranged up to a row short (0.5 m at 4 m) and lies inside the branch, and `default`'s south stem read as a door recess (45-minute seeds 11 and 16) (0: off, the default; docs/explore.md, session 38)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 100.0));
     cmd->add_flag("--scan-blind-start,!--no-scan-blind-start", scan_blind_start,
                   text("At the start, a view blind to the visual sonar (nearly all columns blocked near) is not taken for a corridor whatever the glance says: the robot looks all around first (on by default since session 18; docs/explore.md, session 18)"));
     cmd->add_flag("--rearm-after-gap,!--no-rearm-after-gap", rearm_after_gap,

@@ -156,6 +156,7 @@ std::string ExplorerOptions::Validate() const {
   if (!Positive(branch_max_heading_deg)) return "branch_max_heading_deg must be positive";
   if (!Positive(branch_known_radius_m)) return "branch_known_radius_m must be positive";
   if (!NonNegative(branch_line_tolerance_m)) return "branch_line_tolerance_m must be >= 0";
+  if (!NonNegative(branch_coarse_from_m)) return "branch_coarse_from_m must be >= 0";
   if (!(branch_line_band_m >= branch_line_tolerance_m && std::isfinite(branch_line_band_m)))
     return "branch_line_band_m must be >= branch_line_tolerance_m";
   if (branch_line_samples < 1) return "branch_line_samples must be at least 1";
@@ -517,7 +518,8 @@ double Explorer::FreeAcross(const Percept& p, double side_yaw, double line_m) co
   // As Free (the remembered points only: the latest scan looks ahead, not across), leaving out the
   // band beyond the armed side's wall line where a floor edge seen through the opening lies.
   return memory_.PointsFreeTravel(p.odom_T_robot, side_yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m,
-                                  line_m + opt_.branch_line_tolerance_m, line_m + opt_.branch_line_band_m);
+                                  line_m + opt_.branch_line_tolerance_m, line_m + opt_.branch_line_band_m,
+                                  /*kept_edges=*/false, opt_.branch_coarse_from_m);
 }
 
 double Explorer::SideLineTravel(double yaw, double left_m, double right_m) const {
@@ -1281,17 +1283,21 @@ bool Explorer::TrackSides(const Percept& p) {
   // The nearest remembered point ahead on each side (beyond the abeam window): an opening's far
   // edge (the next wall, the branch's far corner, or the end wall).
   double ahead[2] = {-1.0, -1.0};
-  for (const Eigen::Vector2d& m : memory_.Gathered()) {
-    const Eigen::Vector2d q = m - o;
+  const std::vector<Eigen::Vector2d>& gathered = memory_.Gathered();
+  const std::vector<double>& seen_from = memory_.GatheredSeenRanges();
+  for (std::size_t i = 0; i < gathered.size(); ++i) {
+    const Eigen::Vector2d q = gathered[i] - o;
     const double s = q.dot(d);
     if (s <= opt_.side_window_m) continue;
     const double l = d.x() * q.y() - d.y() * q.x();
     if (std::abs(l) < opt_.robot_radius_m || std::abs(l) > opt_.side_wall_max_lateral_m + 1.5) continue;
     const int k = l > 0.0 ? 0 : 1;
     // Beyond an armed side's wall line: a floor edge seen through the opening (within the band),
-    // or with far_edge_on_line anything inside the branch (the far edge lies on the line).
+    // or with far_edge_on_line anything inside the branch (the far edge lies on the line), or with
+    // branch_coarse_from_m a point seen only from afar (a branch's far wall ranged short).
     if (line_at[k] > 0.0 && std::abs(l) > line_at[k] + opt_.branch_line_tolerance_m &&
-        (opt_.far_edge_on_line || std::abs(l) <= line_at[k] + opt_.branch_line_band_m))
+        (opt_.far_edge_on_line || std::abs(l) <= line_at[k] + opt_.branch_line_band_m ||
+         (opt_.branch_coarse_from_m > 0.0 && seen_from[i] > opt_.branch_coarse_from_m)))
       continue;
     double& a = ahead[k];
     if (a < 0.0 || s < a) a = s;

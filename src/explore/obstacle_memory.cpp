@@ -52,6 +52,7 @@ void ObstacleMemory::Clear() {
   held_.clear();
   view_half_rad_ = -1.0;
   gathered_.clear();
+  gathered_range_.clear();
   gathered_kept_.clear();
 }
 
@@ -140,6 +141,7 @@ void ObstacleMemory::Insert(const Eigen::Vector2d& p, const Eigen::Vector2d& fro
   c.p = p;
   c.stamp_s = stamp_s;
   c.soft = false;
+  c.seen_range_m = (p - from).norm();
 }
 
 void ObstacleMemory::InsertConfirmed(const Eigen::Vector2d& p, double stamp_s) {
@@ -150,6 +152,7 @@ void ObstacleMemory::InsertConfirmed(const Eigen::Vector2d& p, double stamp_s) {
   c.scans = 1;
   c.first_from = p;
   c.confirmed = true;
+  c.seen_range_m = 0.0;
 }
 
 void ObstacleMemory::InsertBlindRay(const Eigen::Vector2d& origin, double yaw, double to_m, double stamp_s, bool edge) {
@@ -167,6 +170,7 @@ void ObstacleMemory::InsertBlindRay(const Eigen::Vector2d& origin, double yaw, d
     c.stamp_s = stamp_s;
     c.soft = true;
     c.soft_keep_s = keep;
+    c.seen_range_m = 0.0;
     c.scans = 0;
     c.confirmed = false;
   }
@@ -350,6 +354,7 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
 void ObstacleMemory::Gather(const Pose2& odom_T_robot, double stamp_s) {
   gathered_.clear();
   gathered_kept_.clear();
+  gathered_range_.clear();
   const double r = options_.query_radius_m;
   const double r2 = r * r;
   const Eigen::Vector2d o = odom_T_robot.Translation();
@@ -370,7 +375,12 @@ void ObstacleMemory::Gather(const Pose2& odom_T_robot, double stamp_s) {
       if ((c.p - o).squaredNorm() > r2) continue;
       const bool kept_only = options_.blind_points_edge_keep_driving_only && c.soft &&
                              stamp_s - c.stamp_s > options_.blind_points_keep_s;
-      (kept_only ? gathered_kept_ : gathered_).push_back(c.p);
+      if (kept_only) {
+        gathered_kept_.push_back(c.p);
+      } else {
+        gathered_.push_back(c.p);
+        gathered_range_.push_back(c.seen_range_m);
+      }
     }
   }
 }
@@ -435,24 +445,26 @@ double ObstacleMemory::BlockedFree(const double* yaws, int n, const Eigen::Vecto
 }
 
 double ObstacleMemory::PointsFreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m,
-                                        double skip_from_m, double skip_to_m, bool kept_edges) const {
+                                        double skip_from_m, double skip_to_m, bool kept_edges,
+                                        double coarse_from_m) const {
   const Eigen::Vector2d o = odom_T_robot.Translation();
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
   const double r2 = radius_m * radius_m;
   double free = max_m;
-  auto sweep = [&](const std::vector<Eigen::Vector2d>& points) {
-    for (const Eigen::Vector2d& p : points) {
-      const Eigen::Vector2d q = p - o;
+  auto sweep = [&](const std::vector<Eigen::Vector2d>& points, const std::vector<double>* ranges) {
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Eigen::Vector2d q = points[i] - o;
       const double s = q.dot(d);
       const double l = d.x() * q.y() - d.y() * q.x();
       if (l * l >= r2 || s < 0.0) continue;  // beside the swept band, or behind the centre
       if (s > skip_from_m && s <= skip_to_m) continue;
+      if (ranges != nullptr && s > skip_from_m && (*ranges)[i] > coarse_from_m) continue;
       const double hit = s - std::sqrt(r2 - l * l);
       free = std::min(free, std::max(0.0, hit));
     }
   };
-  sweep(gathered_);
-  if (kept_edges) sweep(gathered_kept_);
+  sweep(gathered_, coarse_from_m > 0.0 ? &gathered_range_ : nullptr);
+  if (kept_edges) sweep(gathered_kept_, nullptr);
   return free;
 }
 

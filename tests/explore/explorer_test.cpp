@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "squint/core/angles.hpp"
@@ -1446,34 +1448,63 @@ TEST(Explorer, OneStrayPointAbeamIsNoWallAndMakesNoOpening) {
 
 // A corridor with a dead-end branch 1.8 m wide to the right (x = 12 to 13.8) and a box inside it,
 // its face 0.65 m beyond the right wall's line (beyond the floor-edge band), its near end 1.2 m past
-// the wall's end (nearer, the wall's end hides it from the toy's 60° view). The opening's far edge
-// was the nearest remembered point ahead on that side, the box: the opening reads 1.35 m wide, a
-// door recess under a minimum of 1.5 m here, no stop (`default`'s south stem on seed 12's 45-minute
-// run: a cluster 0.6 m inside it made it 1.16 m wide, under the default 1.2 m). With
-// far_edge_on_line the far edge lies on the wall's line, the branch's far corner: 1.76 m, a stop.
+// the wall's end (nearer, the wall's end hides it from the toy's 60° view).
+ToyPlan BoxInsideABranch() {
+  ToyPlan world;
+  world.walls = {{-1, 1, 25, 1},     {-1, -1, 12, -1},  {13.8, -1, 25, -1},  {-1, -1, -1, 1},
+                 {25, -1, 25, 1},    {12, -1, 12, -4},  {13.8, -1, 13.8, -4}, {12, -4, 13.8, -4},
+                 {12.5, -1.65, 13.45, -1.65}, {12.5, -1.65, 12.5, -1.95},
+                 {13.45, -1.65, 13.45, -1.95}, {12.5, -1.95, 13.45, -1.95}};
+  world.pose = {1.0, 0.0, 0.0};
+  return world;
+}
+
+// Drives BoxInsideABranch's corridor with `o` (the branch's minimum width 1.5 m, as the toy's);
+// whether the robot stopped at the mouth's centre (12.9) or passed the branch as a door recess.
+void ExpectBoxBranch(ExplorerOptions o, bool stops, const std::string& what) {
+  ToyPlan world = BoxInsideABranch();
+  o.branch_min_width_m = 1.5;
+  Explorer explorer(o);
+  const ToyDrive run = DriveDownTheCorridor(world, explorer, /*stop_at_junction=*/true);
+  EXPECT_FALSE(run.hit_wall) << what;
+  if (stops) {
+    EXPECT_GT(run.junction_x, 12.4) << what;
+    EXPECT_LT(run.junction_x, 13.4) << what;
+  } else {
+    EXPECT_LT(run.junction_x, 0.0) << what;  // passed as a door recess
+    EXPECT_GE(world.pose.x, 20.0) << what;
+  }
+}
+
+// The opening's far edge was the nearest remembered point ahead on that side, the box: the opening
+// reads 1.35 m wide, a door recess under a minimum of 1.5 m here, no stop (`default`'s south stem on
+// seed 12's 45-minute run: a cluster 0.6 m inside it made it 1.16 m wide, under the default 1.2 m).
+// With far_edge_on_line the far edge lies on the wall's line, the branch's far corner: 1.76 m, a stop.
 TEST(Explorer, ABoxInsideABranchIsNotItsFarEdge) {
   for (const bool rule : {true, false}) {
-    ToyPlan world;
-    world.walls = {{-1, 1, 25, 1},     {-1, -1, 12, -1},  {13.8, -1, 25, -1},  {-1, -1, -1, 1},
-                   {25, -1, 25, 1},    {12, -1, 12, -4},  {13.8, -1, 13.8, -4}, {12, -4, 13.8, -4},
-                   {12.5, -1.65, 13.45, -1.65}, {12.5, -1.65, 12.5, -1.95},
-                   {13.45, -1.65, 13.45, -1.95}, {12.5, -1.95, 13.45, -1.95}};
-    world.pose = {1.0, 0.0, 0.0};
     ExplorerOptions o;
-    o.branch_min_width_m = 1.5;
     o.far_edge_on_line = rule;
-    Explorer explorer(o);
-    const ToyDrive run = DriveDownTheCorridor(world, explorer, /*stop_at_junction=*/true);
-    const double junction_x = run.junction_x;
-    EXPECT_FALSE(run.hit_wall) << rule;
-    if (rule) {
-      EXPECT_GT(junction_x, 12.4);  // stopped at the mouth's centre (12.9)
-      EXPECT_LT(junction_x, 13.4);
-    } else {
-      EXPECT_LT(junction_x, 0.0);  // passed as a door recess
-      EXPECT_GE(world.pose.x, 20.0);
-    }
+    ExpectBoxBranch(o, /*stops=*/rule, rule ? "far_edge_on_line" : "default");
   }
+}
+
+// The same branch with branch_coarse_from_m: the toy's 60° view sees the box's face only through the
+// mouth and from 3.3 m or farther (nearer, the face leaves the view or the wall's end hides it), so
+// with 3 m its points are coarse: they neither end the opening nor block its free-across test, and
+// the robot stops at the mouth's centre. With 4 m they count, as by default: a door recess.
+// (`default`'s south stem, 45-minute seeds 11 and 16: its far wall's base, seen through the mouth
+// from 3.5-5.7 m and ranged 0.45 m short, made the mouth a door recess.) The option is validated.
+TEST(Explorer, ABranchsPointsSeenOnlyFromAfarDoNotCloseItsMouth) {
+  for (const double coarse : {3.0, 4.0}) {
+    ExplorerOptions o;
+    o.branch_coarse_from_m = coarse;
+    ExpectBoxBranch(o, /*stops=*/coarse == 3.0, "branch_coarse_from_m " + std::to_string(coarse));
+  }
+  ExplorerOptions bad;
+  bad.branch_coarse_from_m = -1.0;
+  EXPECT_NE(bad.Validate().find("branch_coarse_from_m"), std::string::npos);
+  bad.branch_coarse_from_m = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(bad.Validate().find("branch_coarse_from_m"), std::string::npos);
 }
 
 // A thin post the camera never sees (the toy's sonar reads only the walls) stands 3 m down a 2 m

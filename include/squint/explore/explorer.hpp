@@ -483,6 +483,15 @@ struct ExplorerOptions {
   // on, seed 12 covers 0.999, but seeds 5, 8 and 11 of 16 miss the middle corridor on routes
   // that part at the first junction; `squint explore --far-edge-on-line`).
   bool far_edge_on_line = false;
+  // > 0: a remembered point more than branch_line_tolerance_m beyond an armed side's wall line,
+  // last seen from farther than this (metres), neither ends that side's opening (its far edge)
+  // nor blocks the opening's free-across test: seen through a mouth from afar, a branch's far
+  // wall's base is ranged up to a row short (0.5 m at 4 m) and lies inside the branch. `default`'s
+  // south stem, 45-minute seeds 11 and 16: its far wall seen from 3.5-5.7 m put points 0.6-0.75 m
+  // beyond the line, the mouth read 1.14 m wide, a door recess, and the stem was never entered;
+  // with far_edge_on_line the same points failed the free-across test on seed 8 (docs/explore.md,
+  // session 38). 0: off, the default (`squint explore --branch-coarse-from`).
+  double branch_coarse_from_m = 0.0;
   double branch_wall_before_m = 0.6;
   double branch_wall_gap_m = 0.3;        // shorter breaks in the wall do not end a wall run...
   // ...unless the break was handled as an opening (a door recess rejected as too narrow, a

@@ -163,9 +163,10 @@ class ObstacleMemory {
                     bool kept_edges = true) const;
   // The same sweep against the gathered points only (no blocked-near columns), leaving out the
   // points whose distance along `yaw` lies in (skip_from_m, skip_to_m] (none when skip_to_m <=
-  // skip_from_m); the edges' kept soft points count only with `kept_edges`.
+  // skip_from_m); the edges' kept soft points count only with `kept_edges`. `coarse_from_m` > 0
+  // leaves out too the points beyond skip_from_m last seen from farther than coarse_from_m.
   double PointsFreeTravel(const Pose2& odom_T_robot, double yaw, double radius_m, double max_m, double skip_from_m = 0.0,
-                          double skip_to_m = 0.0, bool kept_edges = false) const;
+                          double skip_to_m = 0.0, bool kept_edges = false, double coarse_from_m = 0.0) const;
   // Nearest remembered point abeam on each side, as lateral distances from the robot along the
   // axis `axis_yaw` (odometry frame), among points within ±along_window_m along the axis.
   // Negative when none. With cluster_m > 0 a side's distance is that of the nearest point with
@@ -176,6 +177,10 @@ class ObstacleMemory {
   // True when no other gathered point lies within radius_m of `point` (a gathered point itself).
   bool Isolated(const Eigen::Vector2d& point, double radius_m) const;
   const std::vector<Eigen::Vector2d>& Gathered() const { return gathered_; }
+  // The range each gathered point was last seen from, in the same order (0: a soft point, or one
+  // remembered by other means than the sonar). At 64×48 one row of the sonar's frame spans about
+  // 0.3 m of floor at 3 m and 0.5 m at 4 m, so far points may lie that much short of the thing.
+  const std::vector<double>& GatheredSeenRanges() const { return gathered_range_; }
   // The dominant direction of the gathered points' wall lines modulo 90 degrees (radians in
   // (-pi/4, pi/4], odometry frame), from every pair of gathered points 0.2-0.6 m apart: the mean
   // of 4x their directions. `strength`: that mean's resultant length (1: all pairs parallel or
@@ -216,6 +221,7 @@ class ObstacleMemory {
     bool soft = false;           // from a blocked-near column (position along its ray unknown)
     double soft_keep_s = 0.0;    // a soft point is forgotten this long after stamp_s
     int scans = 0;               // scans that saw a boundary in this cell (see confirm_scans)
+    double seen_range_m = 0.0;   // the range it was last seen from (0: soft or confirmed points)
     Eigen::Vector2d first_from = Eigen::Vector2d::Zero();  // where the first of them was taken
     bool confirmed = false;
     // When this cell was last known free of anything standing (< 0: never): floor seen there, a
@@ -247,6 +253,7 @@ class ObstacleMemory {
   ObstacleMemoryOptions options_;
   std::vector<Cell> cells_;
   std::vector<Eigen::Vector2d> gathered_;
+  std::vector<double> gathered_range_;  // Cell::seen_range_m of each gathered point
   // With blind_points_edge_keep_driving_only: the gathered soft points older than
   // blind_points_keep_s (an edge's, kept longer), which only driving queries see.
   std::vector<Eigen::Vector2d> gathered_kept_;
