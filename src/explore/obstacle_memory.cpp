@@ -37,6 +37,8 @@ ObstacleMemory::ObstacleMemory(const ObstacleMemoryOptions& options) : options_(
   if (std::string e = options_.Validate(); !e.empty()) throw Error("obstacle memory: " + e);
   cells_.assign(static_cast<std::size_t>(options_.cells * options_.cells), Cell{});
   gathered_.reserve(cells_.size());
+  gathered_range_.reserve(cells_.size());  // filled beside gathered_ on every Gather
+  if (options_.blind_points_edge_keep_driving_only) gathered_kept_.reserve(cells_.size());
 }
 
 void ObstacleMemory::Clear() {
