@@ -75,7 +75,7 @@ struct ExplorerVariants {
   // Mouth centring bounded by the corridor's own wall line as it stands now (ExplorerOptions::mouth_wall_line; on since session 17).
   bool mouth_wall_line = true;
   // Mouth centring leaves out stray points that would split a mouth (ExplorerOptions::mouth_drop_strays).
-  bool mouth_drop_strays = false;
+  bool mouth_drop_strays = true;
   // The walls' lines also set the axis in the start-up scan and alignment (ExplorerOptions::wall_line_align; off).
   bool wall_line_align = false;
   // An opening beside a junction whose side was judged a wall is looked at (ExplorerOptions::opening_beside_wall_node; off).
@@ -160,9 +160,9 @@ struct ExplorerVariants {
   double blind_points_from_m = 0.6;
   double blind_points_keep_s = 5.0;  // ...forgotten after this long (ObstacleMemoryOptions::blind_points_keep_s)
   // ...those of a near thing's edge after this long (ObstacleMemoryOptions::blind_points_edge_keep_s; 0: as the others).
-  double blind_points_edge_keep_s = 0.0;
+  double blind_points_edge_keep_s = 15.0;
   // ...and serve driving only (ObstacleMemoryOptions::blind_points_edge_keep_driving_only).
-  bool blind_points_edge_keep_driving_only = false;
+  bool blind_points_edge_keep_driving_only = true;
   // A side wall abeam needs another point within this distance (ExplorerOptions::side_wall_cluster_m; 0: nearest point).
   double side_wall_cluster_m = 0.15;
   // The floor-edge band cleared only across the opening's span (ExplorerOptions::floor_edge_band_mouth).
@@ -280,7 +280,7 @@ struct ExplorerVariants {
     cmd->add_flag("--mouth-wall-line,!--no-mouth-wall-line", mouth_wall_line,
                   text("Mouth centring takes the corridor's wall line where it stands now (moved by the robot's sideways travel since it was read) and its remembered points as bounds too, so a gap along which the wall still stands is no mouth (on by default; docs/explore.md, session 17)"));
     cmd->add_flag("--mouth-drop-strays,!--no-mouth-drop-strays", mouth_drop_strays,
-                  text("Mouth centring leaves out a remembered point with no other within 0.3 m along the axis: one stray point inside a mouth split it into two gaps, neither with a wall on both sides, and the robot turned into corridor-8's cross corridor from 1 m off its centre line (off by default; docs/explore.md, session 37)"));
+                  text("Mouth centring leaves out a remembered point with no other within 0.3 m along the axis: one stray point inside a mouth split it into two gaps, neither with a wall on both sides, and the robot turned into corridor-8's cross corridor from 1 m off its centre line (on by default since session 39; docs/explore.md, sessions 37 and 39)"));
     cmd->add_flag("--wall-line-align,!--no-wall-line-align", wall_line_align,
                   text("With --wall-lines: their frames are also taken while scanning and aligning at a standstill, and their heading modulo 90 degrees sets the axis there (off by default; docs/explore.md, session 17)"));
     cmd->add_flag("--opening-beside-wall-node,!--no-opening-beside-wall-node", opening_beside_wall_node,
@@ -394,12 +394,12 @@ struct ExplorerVariants {
         ->capture_default_str()
         ->check(CLI::Range(0.1, 600.0));
     cmd->add_option("--blind-points-edge-keep", blind_points_edge_keep_s,
-                    text("With --blind-points-from: the soft points of a near thing's edge (a run of blocked-near columns with no floor step near the blind range beside it and floor running on beyond that on at least one side: a convex corner or an obstacle's side, not a wall running on into the blind zone nor one filling the view) are forgotten after this many seconds instead, long enough to outlast a full look around in place at the scan rate (10.5 s) and the alignment after it (0: as the others; docs/explore.md, session 37)"))
+                    text("With --blind-points-from: the soft points of a near thing's edge (a run of blocked-near columns with no floor step near the blind range beside it and floor running on beyond that on at least one side: a convex corner or an obstacle's side, not a wall running on into the blind zone nor one filling the view) are forgotten after this many seconds instead, long enough to outlast a full look around in place at the scan rate (10.5 s) and the alignment after it (0: as the others; 15 by default since session 39; docs/explore.md, sessions 37 and 39)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 600.0));
     cmd->add_flag("--blind-points-edge-keep-driving-only,!--no-blind-points-edge-keep-driving-only",
                   blind_points_edge_keep_driving_only,
-                  text("With --blind-points-edge-keep: an edge's soft points kept past --blind-points-keep stop and steer the robot but are left out of the judgements of walls and openings (the side walls abeam and the centring on them, a side opening's depth, an end, a side's probe): kept for every query they moved those judgements and the route with them, and at 45 minutes `default` missed its middle corridor on 2 of 8 seeds (off by default; docs/explore.md, session 38)"));
+                  text("With --blind-points-edge-keep: an edge's soft points kept past --blind-points-keep stop and steer the robot but are left out of the judgements of walls and openings (the side walls abeam and the centring on them, a side opening's depth, an end, a side's probe): kept for every query they moved those judgements and the route with them, and at 45 minutes `default` missed its middle corridor on 2 of 8 seeds (on by default since session 39; docs/explore.md, sessions 38 and 39)"));
     cmd->add_option("--side-wall-cluster", side_wall_cluster_m,
                     text("A side wall seen abeam (the side branches' wall runs and lines) is the nearest remembered point with another within this many metres of it, not one isolated point: one point 0.25 m inside a wall moved that wall's line inward, and the robot stopped for a false opening 2 m before an L corner and turned there (0: the nearest point; 0.15 by default since session 23; docs/explore.md, session 23)"))
         ->capture_default_str()

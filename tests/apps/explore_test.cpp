@@ -182,12 +182,20 @@ std::string LaterRulesOffBut(const std::string& keep) {
                                                                   {"--setoff-blocked-min-range", " --setoff-blocked-min-range 0"},
                                                                   {"--setoff-near-edges", " --no-setoff-near-edges"},
                                                                   {"--mirror-watch", " --no-mirror-watch"},
-                                                                  {"--feel-contacts", " --no-feel-contacts"}};
+                                                                  {"--feel-contacts", " --no-feel-contacts"},
+                                                                  {"--mouth-drop-strays", " --no-mouth-drop-strays"},
+                                                                  {"--blind-points-edge-keep", " --blind-points-edge-keep 0"},
+                                                                  {"--blind-points-edge-keep-driving-only", " --no-blind-points-edge-keep-driving-only"}};
   std::string flags;
   for (const auto& [name, off] : rules)
     if (name != keep) flags += off;
   return flags;
 }
+
+// Session 39's three defaults off (--mouth-drop-strays, --blind-points-edge-keep 15 and
+// --blind-points-edge-keep-driving-only): the explorer as it was when the failures below were
+// found, most of which these defaults avoid by another route.
+const std::string kBeforeSession39 = " --no-mouth-drop-strays --blind-points-edge-keep 0 --no-blind-points-edge-keep-driving-only";
 
 // The explorer as it was before session 17 made the walls' lines and their companions the
 // defaults (and without session 18's, 19's and 20's defaults).
@@ -477,7 +485,7 @@ TEST(ExploreCli, TheRobotKnowsAMirrorByItsOwnReflection) {
 // the robot meets nothing on this start, with or without --feel-contacts.)
 TEST(ExploreCli, AContactFeltFromTheWheelsIsNotPushedIntoAgain) {
   const auto dir = TempDir("feel-contacts");
-  const std::string start = "--world obstacle-course --seed 7 --eval-start 5 --minutes 2 --far-floor-from 0";
+  const std::string start = "--world obstacle-course --seed 7 --eval-start 5 --minutes 2 --far-floor-from 0" + kBeforeSession39;
   const nlohmann::json off = ExploreSummary(dir / "off", start + " --no-feel-contacts");
   EXPECT_GT(off["collisions"].get<long>(), 20);
   EXPECT_EQ(off["contacts_felt"].get<long>(), 0);
@@ -517,7 +525,7 @@ TEST(ExploreCli, BrickLinesKeepTheMemoryFromOpeningAWallAtAnEnd) {
 // nothing.
 TEST(ExploreCli, ACornerRangedByTheTravelsParallaxIsNotMetSettingOff) {
   const auto dir = TempDir("setoff-near-edges");
-  const std::string start = "--world corridor-9 --seed 35 --eval-start 2 --minutes 1";
+  const std::string start = "--world corridor-9 --seed 35 --eval-start 2 --minutes 1" + kBeforeSession39;
   const nlohmann::json off = ExploreSummary(dir / "off", start + " --no-setoff-near-edges");
   EXPECT_GT(off["collisions"].get<long>(), 0);
   EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
@@ -541,7 +549,7 @@ TEST(ExploreCli, ACornerRangedByTheTravelsParallaxIsNotMetSettingOff) {
 // the probe turns the robot into the cross corridor, and it meets nothing.
 TEST(ExploreCli, ACornerThatLeftTheViewStillHoldsWhereTheRobotStands) {
   const auto dir = TempDir("setoff-standing-hold");
-  const std::string start = "--world corridor-9 --seed 45 --eval-start 2 --minutes 0.5";
+  const std::string start = "--world corridor-9 --seed 45 --eval-start 2 --minutes 0.5" + kBeforeSession39;
   const nlohmann::json off = ExploreSummary(dir / "off", start);  // the default: off
   EXPECT_GT(off["collisions"].get<long>(), 0);
   EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
@@ -601,23 +609,24 @@ TEST(ExploreCli, ABinALittleLowerThanTheCameraIsNoFloorRunningOnWithFarFloorFrom
 // range, is a run of blocked-near columns ending in floor running far (the turn corridor): soft
 // points along those rays. Seen in the first half of the turn, they were forgotten after 5 s,
 // before the set-off at 13.6 s, and the robot swung toward the turn and met the corner at 16.2 s
-// (the defaults). Kept 15 s as a near thing's edge (--blind-points-edge-keep 15, off by default),
+// (the defaults before session 39). Kept 15 s as a near thing's edge (--blind-points-edge-keep 15),
 // they close that heading and the robot meets nothing, also when the kept points serve driving
-// only (--blind-points-edge-keep-driving-only: the set-off's direction and the guard see them).
+// only (--blind-points-edge-keep-driving-only: the set-off's direction and the guard see them),
+// as they do with the defaults since session 39.
 TEST(ExploreCli, ACornerSeenDuringTheLookAroundIsStillKnownAtTheSetOff) {
   const auto dir = TempDir("blind-points-edge-keep");
   auto summary = [&](const std::string& name, const std::string& flag) {
     return ExploreSummary(dir / name, "--world corridor-7 --seed 98 --eval-start 4 --minutes 0.35" + flag);
   };
-  const nlohmann::json forgotten = summary("forgotten", "");
+  const nlohmann::json forgotten = summary("forgotten", kBeforeSession39);
   EXPECT_GT(forgotten["collisions"].get<long>(), 0);
   EXPECT_EQ(forgotten["first_hit"].get<std::string>(), "wall");
   EXPECT_NEAR(forgotten["first_collision_x_m"].get<double>(), 39.1, 0.25 + 0.15);
   EXPECT_NEAR(forgotten["first_collision_y_m"].get<double>(), -0.9, 0.25 + 0.15);
-  const nlohmann::json kept = summary("kept", " --blind-points-edge-keep 15");
+  const nlohmann::json kept = summary("kept", " --no-mouth-drop-strays --blind-points-edge-keep 15 --no-blind-points-edge-keep-driving-only");
   EXPECT_EQ(kept["collisions"].get<long>(), 0);
   EXPECT_EQ(kept["first_hit"].get<std::string>(), "");
-  const nlohmann::json driving = summary("driving", " --blind-points-edge-keep 15 --blind-points-edge-keep-driving-only");
+  const nlohmann::json driving = summary("driving", "");  // the defaults since session 39
   EXPECT_EQ(driving["collisions"].get<long>(), 0);
   EXPECT_EQ(driving["first_hit"].get<std::string>(), "");
   std::filesystem::remove_all(dir);
@@ -627,21 +636,24 @@ TEST(ExploreCli, ACornerSeenDuringTheLookAroundIsStillKnownAtTheSetOff) {
 // corridor's south opening as its right wall ends, 1 m short of the cross's centre line, and turns
 // into the north branch. One stray remembered point inside the mouth splits it, mouth centring
 // finds no centre, and the robot drives north 1 m off the branch's centre line and meets its near
-// corner at 79.8 s. With --mouth-drop-strays it first moves 0.78 m along to the centre line and
-// meets nothing.
+// corner at 79.8 s (the defaults before session 39). With --mouth-drop-strays it first moves
+// 0.78 m along to the centre line and meets nothing, as it does with the defaults since session 39.
 TEST(ExploreCli, AStrayPointInsideAMouthDoesNotKeepTheRobotOffItsCentre) {
   const auto dir = TempDir("mouth-drop-strays");
   auto summary = [&](const std::string& name, const std::string& flag) {
     return ExploreSummary(dir / name, "--world corridor-8 --seed 108 --eval-start 3 --minutes 1.4" + flag);
   };
-  const nlohmann::json off = summary("off", "");
+  const nlohmann::json off = summary("off", kBeforeSession39);
   EXPECT_GT(off["collisions"].get<long>(), 0);
   EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
   EXPECT_NEAR(off["first_collision_x_m"].get<double>(), 12.9, 0.25 + 0.1);
   EXPECT_NEAR(off["first_collision_y_m"].get<double>(), 1.4, 0.25 + 0.1);
-  const nlohmann::json on = summary("on", " --mouth-drop-strays");
+  const nlohmann::json on = summary("on", " --mouth-drop-strays --blind-points-edge-keep 0 --no-blind-points-edge-keep-driving-only");
   EXPECT_EQ(on["collisions"].get<long>(), 0);
   EXPECT_EQ(on["first_hit"].get<std::string>(), "");
+  const nlohmann::json defaults = summary("defaults", "");
+  EXPECT_EQ(defaults["collisions"].get<long>(), 0);
+  EXPECT_EQ(defaults["first_hit"].get<std::string>(), "");
   std::filesystem::remove_all(dir);
 }
 
@@ -650,7 +662,8 @@ TEST(ExploreCli, AStrayPointInsideAMouthDoesNotKeepTheRobotOffItsCentre) {
 // stood 0.36 m from the concrete column at (7.0, 0.6); its columns blocked near closed a sector of
 // ±32° about them (a thing 0.6 m away assumed), the robot set off along the sector's edge and met
 // the column with its flank at 30.1 s. corridor-9, start 2 of seed 17: set off 0.38 m from a convex
-// corner and met the wall at 15.8 s (both with 0.6 m, the default, and no set-off range). With the
+// corner and met the wall at 15.8 s (both with 0.6 m, the default, no set-off range, and session
+// 39's defaults off: with them the corner's start meets nothing even so). With the
 // sector for a thing 0.45 m away (--blocked-min-range 0.45; ±45° for the obstacle course's disc)
 // neither meets anything.
 const std::string kColumnStart = "--world obstacle-course --seed 4 --eval-start 1 --minutes 0.6";
@@ -658,12 +671,12 @@ const std::string kCornerStart = "--world corridor-9 --seed 17 --eval-start 2 --
 
 TEST(ExploreCli, SomethingInsideTheBlindRangeMayStandNearerThanTheSectorAssumed) {
   const auto dir = TempDir("blocked-min-range");
-  const nlohmann::json column_off = ExploreSummary(dir / "column-off", kColumnStart + " --blocked-min-range 0.6 --setoff-blocked-min-range 0");
+  const nlohmann::json column_off = ExploreSummary(dir / "column-off", kColumnStart + " --blocked-min-range 0.6 --setoff-blocked-min-range 0" + kBeforeSession39);
   EXPECT_GT(column_off["collisions"].get<long>(), 0);
   EXPECT_EQ(column_off["first_hit"].get<std::string>(), "obstacles[2] (column)");
   const nlohmann::json column_on = ExploreSummary(dir / "column-on", kColumnStart + " --blocked-min-range 0.45 --setoff-blocked-min-range 0");
   EXPECT_EQ(column_on["collisions"].get<long>(), 0);
-  const nlohmann::json corner_off = ExploreSummary(dir / "corner-off", kCornerStart + " --blocked-min-range 0.6 --setoff-blocked-min-range 0");
+  const nlohmann::json corner_off = ExploreSummary(dir / "corner-off", kCornerStart + " --blocked-min-range 0.6 --setoff-blocked-min-range 0" + kBeforeSession39);
   EXPECT_GT(corner_off["collisions"].get<long>(), 0);
   EXPECT_EQ(corner_off["first_hit"].get<std::string>(), "wall");
   const nlohmann::json corner_on = ExploreSummary(dir / "corner-on", kCornerStart + " --blocked-min-range 0.45 --setoff-blocked-min-range 0");

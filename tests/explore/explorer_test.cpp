@@ -659,6 +659,8 @@ TEST(Explorer, AStrayPointDoesNotSplitAMouth) {
                                -0.41, 0.03,  1.98,  1.99,  1.99,  2.00,  2.01,  2.03,  2.05,  2.10,  2.12,  2.17};
   std::reverse(along.begin(), along.end());  // any order
   ExplorerOptions o;
+  EXPECT_TRUE(o.mouth_drop_strays);  // the default since session 39
+  o.mouth_drop_strays = false;
   EXPECT_FALSE(MouthGapCentre(along, o).has_value());
   o.mouth_drop_strays = true;
   const std::optional<double> centre = MouthGapCentre(along, o);

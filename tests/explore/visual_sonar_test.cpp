@@ -1101,9 +1101,12 @@ TEST(ObstacleMemory, BlindZoneCornerStaysKnownAfterTurningAway) {
   ASSERT_GT(n_blocked, 10);
   const Pose2 turned{0.0, 0.0, 0.9};  // 52 degrees left: the blocked rays are out of view
   const double right = -0.3;          // a heading into the blocked sector
-  // The soft points alone: the blocked-near columns held over the next scan (blocked_hold_s) off.
+  // The soft points alone: the blocked-near columns held over the next scan (blocked_hold_s) off,
+  // and every soft point kept blind_points_keep_s (a run ending in floor running far beside it is
+  // a near thing's edge, kept blind_points_edge_keep_s by default: the next test).
   ObstacleMemoryOptions on;
   on.blocked_hold_s = 0.0;
+  on.blind_points_edge_keep_s = 0.0;
   ObstacleMemoryOptions off = on;
   off.blind_points_from_m = 0.0;
   for (const bool soft : {true, false}) {
@@ -1167,8 +1170,8 @@ std::vector<SonarColumn> Unblocked(std::vector<SonarColumn> view) {
 // The same corner seen at the start of a look around in place (a full turn at the explorer's scan
 // rate, then the alignment back): its blocked-near run ends in floor running far, a near thing's
 // edge, so with blind_points_edge_keep_s = 15 its soft points outlast the turn and the heading
-// toward it is still closed when the robot sets off. With the 5 s every soft point is kept by
-// default, they are forgotten half way round (corridor-7, start 4 of seed 98: set off toward an L's convex corner seen in the
+// toward it is still closed when the robot sets off (the default since session 39). With the 5 s
+// every other soft point is kept, they are forgotten half way round (corridor-7, start 4 of seed 98: set off toward an L's convex corner seen in the
 // first half of the scan, and met it). A run beside a floor step near the blind range (a wall
 // running on into the blind zone, its base just beyond) or one filling the view (a narrow
 // corridor's side wall during the turn) is a guess along a wall, kept 5 s only: kept longer, such
@@ -1191,6 +1194,8 @@ TEST(ObstacleMemory, BlindZoneCornerOutlastsALookAround) {
   const double right = -0.3;  // the heading into the blocked sector
   ObstacleMemoryOptions edge_keep;
   edge_keep.blind_points_edge_keep_s = 15.0;
+  ObstacleMemoryOptions five_s = edge_keep;  // every soft point kept blind_points_keep_s (before session 39)
+  five_s.blind_points_edge_keep_s = 0.0;
   // The free travel at the set-off with the given memory and first view.
   auto free_at_setoff = [&](const ObstacleMemoryOptions& options, const std::vector<SonarColumn>& first_view) {
     return LookAround(options, first_view).FreeTravel(Pose2{}, right, 0.35, 5.0, /*use_blocked=*/false);
@@ -1201,7 +1206,8 @@ TEST(ObstacleMemory, BlindZoneCornerOutlastsALookAround) {
   const double nothing = unblocked(corner);
   EXPECT_GT(nothing, 2.0);  // only the walls of the first turned view, about 2.8 m along the heading
   EXPECT_LT(free_at_setoff(edge_keep, corner), 0.3);
-  EXPECT_EQ(free_at_setoff(ObstacleMemoryOptions{}, corner), nothing);  // the default: forgotten
+  EXPECT_EQ(free_at_setoff(five_s, corner), nothing);  // forgotten
+  EXPECT_EQ(free_at_setoff(ObstacleMemoryOptions{}, corner), free_at_setoff(edge_keep, corner));  // the default since session 39
   EXPECT_EQ(free_at_setoff(edge_keep, wall), unblocked(wall));
   EXPECT_EQ(free_at_setoff(edge_keep, filling), unblocked(filling));
   ObstacleMemoryOptions bad;
@@ -1222,6 +1228,7 @@ TEST(ObstacleMemory, KeptEdgePointsServeDrivingOnly) {
   const double right = -0.3;
   ObstacleMemoryOptions kept;
   kept.blind_points_edge_keep_s = 15.0;
+  kept.blind_points_edge_keep_driving_only = false;
   ObstacleMemoryOptions driving_only = kept;
   driving_only.blind_points_edge_keep_driving_only = true;
   const ObstacleMemory all = LookAround(kept, corner);

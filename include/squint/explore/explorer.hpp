@@ -560,9 +560,9 @@ struct ExplorerOptions {
   // the axis: one stray point inside a mouth splits it into two gaps, neither with a wall of two
   // points on both sides, and no centre is found (corridor-8's cross, starts 8 of seed 95 and 3 of
   // seed 108: a point 0.1 m past the near corner, the robot turned into the branch from 1 m off its
-  // centre line and met the corner). Off by default (`squint explore --mouth-drop-strays`;
-  // docs/explore.md, session 37).
-  bool mouth_drop_strays = false;
+  // centre line and met the corner). On by default since session 39 (`squint explore
+  // --no-mouth-drop-strays`; docs/explore.md, sessions 37 and 39).
+  bool mouth_drop_strays = true;
   // A stop's node marks the branch the robot came in by as explored only when it came along it:
   // it departed from a node, or it has driven at least this far since it set off (a robot that
   // starts in a junction has not driven the corridor behind it, which may be a wall). 0 marks it

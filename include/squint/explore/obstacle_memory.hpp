@@ -43,12 +43,13 @@ struct ObstacleMemoryOptions {
   // ...except those of a near thing's edge (a run of blocked-near columns with no floor step near
   // the blind range beside it, blocked_edge_step_m, and floor running on beyond that on at least
   // one side: a convex corner or an obstacle's side, not a wall running on into the blind zone nor
-  // one filling the view), kept this long (seconds; 0: blind_points_keep_s, the default). 15 s
+  // one filling the view), kept this long (seconds; 0: blind_points_keep_s; 15 by default since
+  // session 39, with blind_points_edge_keep_driving_only, docs/explore.md). 15 s
   // outlasts a full look around in place (10.5 s at the explorer's scan rate) and the alignment
   // after it: with 5 s a convex corner seen in the first half of a start's scan is forgotten by
   // the set-off (corridor-7, start 4 of seed 98). Every soft point kept that long (not only an
   // edge's) held robots still in corridor-1's narrow cross corridor (docs/explore.md, session 37).
-  double blind_points_edge_keep_s = 0.0;
+  double blind_points_edge_keep_s = 15.0;
   // With blind_points_edge_keep_s: an edge's soft points past blind_points_keep_s serve driving
   // only (FreeTravel with kept_edges), not the judgements of where walls and openings are (the
   // gathered points, the side distances, PointsFreeTravel), which see them for
@@ -56,8 +57,9 @@ struct ObstacleMemoryOptions {
   // seen during a look around; kept for every query the points also moved the centring and the
   // side openings' judgements and with them the route, and at 45 minutes `default` missed its
   // middle corridor on 2 of 8 seeds. For driving only, the 45-minute runs of seeds 1-17 are
-  // byte-identical to those without the longer life (docs/explore.md, session 38). Off by default.
-  bool blind_points_edge_keep_driving_only = false;
+  // byte-identical to those without the longer life (docs/explore.md, session 38). On by default
+  // since session 39.
+  bool blind_points_edge_keep_driving_only = true;
   // A boundary seen again at the same place (cell) by this many scans, from positions at least
   // confirm_baseline_m apart, is confirmed: floor seen beyond it later no longer removes it (only
   // age does). Something standing stays where it is as the robot moves; what contradicts it is
