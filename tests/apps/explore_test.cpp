@@ -160,9 +160,10 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
 // --probe-wall-lines-memory and session 32's --setoff-near-edges, each switched off (and session 27's
 // --blocked-min-range and --settled-blocked-min-range at their defaults), but for the one named
 // (so a test of one replays its case as it was found, with the others as they were then);
-// LaterRulesOffBut("") switches them all off.
-std::string LaterRulesOffBut(const std::string& keep) {
-  const std::vector<std::pair<std::string, std::string>> rules = {{"--side-wall-cluster", " --side-wall-cluster 0"},
+// LaterRulesOffBut("") switches them all off. Session 39's three defaults close the list;
+// Session39OffBut reads those alone.
+const std::vector<std::pair<std::string, std::string>>& LaterRules() {
+  static const std::vector<std::pair<std::string, std::string>> rules = {{"--side-wall-cluster", " --side-wall-cluster 0"},
                                                                   {"--floor-edge-band-mouth", " --no-floor-edge-band-mouth"},
                                                                   {"--blocked-hold-in-view", " --no-blocked-hold-in-view"},
                                                                   {"--blind-texture-keep-peak", " --no-blind-texture-keep-peak"},
@@ -186,16 +187,27 @@ std::string LaterRulesOffBut(const std::string& keep) {
                                                                   {"--mouth-drop-strays", " --no-mouth-drop-strays"},
                                                                   {"--blind-points-edge-keep", " --blind-points-edge-keep 0"},
                                                                   {"--blind-points-edge-keep-driving-only", " --no-blind-points-edge-keep-driving-only"}};
+  return rules;
+}
+constexpr std::size_t kSession39Rules = 3;  // the last three of LaterRules()
+
+// The "off" flags of rules [first, end) of LaterRules(), but for the one named.
+std::string RulesOffBut(std::size_t first, const std::string& keep) {
   std::string flags;
-  for (const auto& [name, off] : rules)
-    if (name != keep) flags += off;
+  for (std::size_t i = first; i < LaterRules().size(); ++i)
+    if (LaterRules()[i].first != keep) flags += LaterRules()[i].second;
   return flags;
 }
 
-// Session 39's three defaults off (--mouth-drop-strays, --blind-points-edge-keep 15 and
-// --blind-points-edge-keep-driving-only): the explorer as it was when the failures below were
-// found, most of which these defaults avoid by another route.
-const std::string kBeforeSession39 = " --no-mouth-drop-strays --blind-points-edge-keep 0 --no-blind-points-edge-keep-driving-only";
+std::string LaterRulesOffBut(const std::string& keep) { return RulesOffBut(0, keep); }
+
+// Session 39's three defaults (--mouth-drop-strays, --blind-points-edge-keep 15 and
+// --blind-points-edge-keep-driving-only) off, but for the one named.
+std::string Session39OffBut(const std::string& keep) { return RulesOffBut(LaterRules().size() - kSession39Rules, keep); }
+
+// All three off: the explorer as it was when the failures below were found, most of which these
+// defaults avoid by another route.
+const std::string kBeforeSession39 = Session39OffBut("");
 
 // The explorer as it was before session 17 made the walls' lines and their companions the
 // defaults (and without session 18's, 19's and 20's defaults).
@@ -623,7 +635,7 @@ TEST(ExploreCli, ACornerSeenDuringTheLookAroundIsStillKnownAtTheSetOff) {
   EXPECT_EQ(forgotten["first_hit"].get<std::string>(), "wall");
   EXPECT_NEAR(forgotten["first_collision_x_m"].get<double>(), 39.1, 0.25 + 0.15);
   EXPECT_NEAR(forgotten["first_collision_y_m"].get<double>(), -0.9, 0.25 + 0.15);
-  const nlohmann::json kept = summary("kept", " --no-mouth-drop-strays --blind-points-edge-keep 15 --no-blind-points-edge-keep-driving-only");
+  const nlohmann::json kept = summary("kept", Session39OffBut("--blind-points-edge-keep"));
   EXPECT_EQ(kept["collisions"].get<long>(), 0);
   EXPECT_EQ(kept["first_hit"].get<std::string>(), "");
   const nlohmann::json driving = summary("driving", "");  // the defaults since session 39
@@ -648,7 +660,7 @@ TEST(ExploreCli, AStrayPointInsideAMouthDoesNotKeepTheRobotOffItsCentre) {
   EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
   EXPECT_NEAR(off["first_collision_x_m"].get<double>(), 12.9, 0.25 + 0.1);
   EXPECT_NEAR(off["first_collision_y_m"].get<double>(), 1.4, 0.25 + 0.1);
-  const nlohmann::json on = summary("on", " --mouth-drop-strays --blind-points-edge-keep 0 --no-blind-points-edge-keep-driving-only");
+  const nlohmann::json on = summary("on", Session39OffBut("--mouth-drop-strays"));
   EXPECT_EQ(on["collisions"].get<long>(), 0);
   EXPECT_EQ(on["first_hit"].get<std::string>(), "");
   const nlohmann::json defaults = summary("defaults", "");
