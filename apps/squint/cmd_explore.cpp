@@ -153,8 +153,6 @@ struct ExplorerVariants {
   bool mirror_watch = true;
   // A driven corridor closed by a stall right after setting off is reopened on the next arrival (TopoMapOptions::reopen_blocked_driven).
   bool reopen_blocked_driven = false;
-  // ...and one never driven, at most this many times per branch (TopoMapOptions::reopen_blocked_setoff; 0: off, the default).
-  int reopen_blocked_setoff = 0;
   // Feel contacts from the wheels, remember them and reverse the way just driven (ExplorerOptions::feel_contacts; on since session 30).
   bool feel_contacts = true;
   int contact_frames = 2;  // ...on this many steps in a row (ExplorerOptions::contact_frames)
@@ -229,7 +227,6 @@ struct ExplorerVariants {
     ro.explorer.setoff_standing_hold_m = setoff_standing_hold_m;
     ro.explorer.mirror_watch = mirror_watch;
     ro.explorer.map.reopen_blocked_driven = reopen_blocked_driven;
-    ro.explorer.map.reopen_blocked_setoff = reopen_blocked_setoff;
     ro.explorer.feel_contacts = feel_contacts;
     ro.explorer.contact_frames = contact_frames;
     ro.explorer.memory.blind_points_from_m = blind_points_from_m;
@@ -382,10 +379,6 @@ struct ExplorerVariants {
                   text("Watch the visual sonar for the robot's own reflection, a disc of its radius that moves as the robot's position mirrored in a plane (it comes nearer at twice the robot's speed), which nothing standing does; where it shows, remember a wall on the mirror's plane that the floor seen through the mirror does not erase: a mirror shows the corridor going on behind its base, and corridor-5's robot weaved into its mirror end (on by default since session 29; docs/explore.md, session 29)"));
     cmd->add_flag("--reopen-blocked-driven,!--no-reopen-blocked-driven", reopen_blocked_driven,
                   text("A corridor the robot has driven that it found blocked right after setting off along it (the stall guard) is closed for the rest of that visit to the node only, and open again (explored) on the next arrival: the robot stood where it could not set off (inside a side branch's mouth), which says nothing of the corridor. Without it a T's bar closed that way from its stem left the robot shuttling between the stem's dead end and the T for the rest of the run (docs/explore.md, session 35)"));
-    cmd->add_option("--reopen-blocked-setoff", reopen_blocked_setoff,
-                    text("A branch never driven that the robot turned into after a probe judged it open and found blocked right after setting off (the stall guard) is open again on the next arrival at the node, at most this many times per branch: the probe's view from the node said open, the stall says only that the robot could not set off from where it stood. Without it one such stall closed `default`'s carpeted middle corridor for good (0: off, the default; docs/explore.md, session 40)"))
-        ->capture_default_str()
-        ->check(CLI::Range(0, 10));
     cmd->add_flag("--feel-contacts,!--no-feel-contacts", feel_contacts,
                   text("Feel a contact from the wheels: commanded forward on two steps in a row while odometry shows (almost) no progress, something stands against the disc's front where the camera cannot see it; remember it as a point the floor seen later does not erase, reverse up to 0.1 m along the way just driven (the one reversal that is not blind) and look and choose as at any blockage (on by default since session 30; docs/explore.md, session 30)"));
     cmd->add_option("--contact-frames", contact_frames,

@@ -24,7 +24,6 @@ const char* BranchName(Branch b) {
 
 std::string TopoMapOptions::Validate() const {
   if (!(merge_radius_m > 0.0) || !std::isfinite(merge_radius_m)) return "merge_radius_m must be positive";
-  if (reopen_blocked_setoff < 0) return "reopen_blocked_setoff must be >= 0";
   return {};
 }
 
@@ -72,14 +71,6 @@ int TopoMap::Arrive(const Eigen::Vector2d& position_m, int travel_dir, bool came
       node.blocked_driven[k] = false;
     }
   }
-  for (int k = 0; k < 4; ++k) {
-    if (node.blocked_setoff[k] && node.branch[k] == Branch::kWall &&
-        node.reopened_setoff[k] < options_.reopen_blocked_setoff) {
-      node.branch[k] = Branch::kOpen;
-      ++node.reopened_setoff[k];
-    }
-    node.blocked_setoff[k] = false;
-  }
   const int back = Opposite(travel_dir);
   if (came_along || pending_node_ >= 0) node.branch[back] = Branch::kExplored;
   if (pending_node_ >= 0 && pending_node_ != id) {
@@ -101,7 +92,6 @@ void TopoMap::SetBranch(int node, int dir, Branch state, bool force) {
   Branch& b = n.branch[dir];
   if (!force && b == Branch::kExplored && state != Branch::kExplored) return;
   n.blocked_driven[dir] = force && state == Branch::kWall && n.neighbour[dir] >= 0;
-  n.blocked_setoff[dir] = force && state == Branch::kWall && n.neighbour[dir] < 0;
   b = state;
 }
 

@@ -225,58 +225,6 @@ TEST(TopoMap, DrivenCorridorBlockedAtSetOffIsReopenedOnTheNextArrival) {
   }
 }
 
-// A side branch never driven, judged open by the probe, turned into and found blocked at once (the
-// robot stalled in the mouth): with reopen_blocked_setoff = 1 it is open again on the next arrival
-// at the junction, once; a second such stall closes it for good. Without, the first closes it for
-// good. A driven corridor is left to reopen_blocked_driven, and a branch closed by looking stays.
-TEST(TopoMap, SideBranchBlockedAtSetOffIsOpenAgainOnTheNextArrivalOnce) {
-  for (const int reopen : {0, 1}) {
-    SCOPED_TRACE(reopen == 0 ? "closed for good" : "reopen_blocked_setoff 1");
-    TopoMapOptions options;
-    options.reopen_blocked_setoff = reopen;
-    ASSERT_EQ(options.Validate(), "");
-    TopoMap map(options);
-    // A loop's west corridor, driven south (direction 3); the middle corridor opens east (0).
-    const int j = map.Arrive({0.0, 12.5}, 3, /*came_along=*/false);
-    map.SetBranch(j, 0, Branch::kOpen);  // the probe: open
-    map.SetBranch(j, 2, Branch::kWall);
-    map.SetBranch(j, 3, Branch::kOpen);  // the corridor ahead goes on
-    ASSERT_EQ(map.ChooseBranch(j, 3), 0);  // the open branch, never driven
-    map.Depart(j, 0);
-    map.CancelDeparture();                                // stalled right after setting off...
-    map.SetBranch(j, 0, Branch::kWall, /*force=*/true);  // ...so the branch is closed
-    EXPECT_EQ(map.Nodes()[j].neighbour[0], -1);
-    EXPECT_EQ(map.ChooseBranch(j, 3), 3);  // on south, this visit either way
-    map.Depart(j, 3);
-    const int s = map.Arrive({0.0, 0.0}, 3);
-    map.SetBranch(s, 0, Branch::kWall);
-    map.SetBranch(s, 2, Branch::kWall);
-    map.SetBranch(s, 3, Branch::kWall);
-    map.Depart(s, 1);
-    ASSERT_EQ(map.Arrive({0.2, 12.2}, 1), j);  // back north, passing the junction
-    if (reopen == 0) {
-      EXPECT_EQ(map.Nodes()[j].branch[0], Branch::kWall);
-      continue;
-    }
-    EXPECT_EQ(map.Nodes()[j].branch[0], Branch::kOpen);
-    EXPECT_EQ(map.ChooseBranch(j, 1), 0);  // into the middle corridor again, from another stop
-    map.Depart(j, 0);
-    map.CancelDeparture();
-    map.SetBranch(j, 0, Branch::kWall, /*force=*/true);  // blocked once more
-    map.Depart(j, 3);
-    ASSERT_EQ(map.Arrive({0.0, 0.1}, 3), s);
-    map.Depart(s, 1);
-    ASSERT_EQ(map.Arrive({-0.1, 12.6}, 1), j);
-    EXPECT_EQ(map.Nodes()[j].branch[0], Branch::kWall);  // the one reopening is spent
-    EXPECT_EQ(map.Nodes()[j].reopened_setoff[0], 1);
-    // Closed by looking, not by a stall: stays closed.
-    EXPECT_EQ(map.Nodes()[j].branch[2], Branch::kWall);
-  }
-  TopoMapOptions bad;
-  bad.reopen_blocked_setoff = -1;
-  EXPECT_NE(bad.Validate(), "");
-}
-
 TEST(TopoMap, OptionsValidate) {
   TopoMapOptions o;
   EXPECT_TRUE(o.Validate().empty());

@@ -32,13 +32,6 @@ struct TopoMapOptions {
   // the robot shuttling between the stem's dead end and the T for the rest of the run (`default`,
   // 45 minutes with --wall-line-align: coverage 0.21). false: closed for good (before session 35).
   bool reopen_blocked_driven = false;
-  // A branch never driven (no neighbour) that SetBranch(..., force) closed the same way (the
-  // robot turned into it after a probe judged it open and stalled at once) is open again on the
-  // next arrival at the node, at most this many times per branch. The probe's view from the
-  // node's centre said open; the stall says the robot could not set off from where it stood (the
-  // carpeted middle corridor of `default`, whose tiles-to-carpet edge the sonar reads as blocked
-  // near at the mouth, was otherwise closed for good by one such stall). 0: closed for good.
-  int reopen_blocked_setoff = 0;
   std::string Validate() const;
 };
 
@@ -51,10 +44,6 @@ struct TopoNode {
   // Driven, then forced closed (found blocked right after setting off along it): reopened on the
   // next arrival when TopoMapOptions::reopen_blocked_driven.
   std::array<bool, 4> blocked_driven{false, false, false, false};
-  // Never driven, then forced closed the same way: reopened (open) on the next arrival when
-  // TopoMapOptions::reopen_blocked_setoff, which bounds reopened_setoff.
-  std::array<bool, 4> blocked_setoff{false, false, false, false};
-  std::array<int, 4> reopened_setoff{0, 0, 0, 0};
   int arrivals = 0;
 };
 
@@ -75,8 +64,7 @@ class TopoMap {
   int Arrive(const Eigen::Vector2d& position_m, int travel_dir, bool came_along = true);
   // What looking (or bumping) told about a branch. An explored branch stays explored unless
   // `force` (the robot found it blocked right after setting off along it; with
-  // reopen_blocked_driven a driven one is reopened on the next arrival, with
-  // reopen_blocked_setoff one never driven too).
+  // reopen_blocked_driven a driven one is reopened on the next arrival).
   void SetBranch(int node, int dir, Branch state, bool force = false);
   // The robot leaves `node` along `dir`.
   void Depart(int node, int dir);
