@@ -160,10 +160,20 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
 // --probe-wall-lines-memory and session 32's --setoff-near-edges, each switched off (and session 27's
 // --blocked-min-range and --settled-blocked-min-range at their defaults), but for the one named
 // (so a test of one replays its case as it was found, with the others as they were then);
-// LaterRulesOffBut("") switches them all off. Session 39's three defaults close the list;
-// Session39OffBut reads those alone.
-const std::vector<std::pair<std::string, std::string>>& LaterRules() {
-  static const std::vector<std::pair<std::string, std::string>> rules = {{"--side-wall-cluster", " --side-wall-cluster 0"},
+// LaterRulesOffBut("") switches them all off. Session 39's three defaults are a list of their own,
+// which Session39OffBut reads alone.
+using Rules = std::vector<std::pair<std::string, std::string>>;  // a switch's name, its "off" flags
+
+const Rules& Session39Rules() {
+  static const Rules rules = {{"--mouth-drop-strays", " --no-mouth-drop-strays"},
+                              {"--blind-points-edge-keep", " --blind-points-edge-keep 0"},
+                              {"--blind-points-edge-keep-driving-only", " --no-blind-points-edge-keep-driving-only"}};
+  return rules;
+}
+
+const Rules& LaterRules() {
+  static const Rules rules = [] {
+    Rules r = {{"--side-wall-cluster", " --side-wall-cluster 0"},
                                                                   {"--floor-edge-band-mouth", " --no-floor-edge-band-mouth"},
                                                                   {"--blocked-hold-in-view", " --no-blocked-hold-in-view"},
                                                                   {"--blind-texture-keep-peak", " --no-blind-texture-keep-peak"},
@@ -183,27 +193,26 @@ const std::vector<std::pair<std::string, std::string>>& LaterRules() {
                                                                   {"--setoff-blocked-min-range", " --setoff-blocked-min-range 0"},
                                                                   {"--setoff-near-edges", " --no-setoff-near-edges"},
                                                                   {"--mirror-watch", " --no-mirror-watch"},
-                                                                  {"--feel-contacts", " --no-feel-contacts"},
-                                                                  {"--mouth-drop-strays", " --no-mouth-drop-strays"},
-                                                                  {"--blind-points-edge-keep", " --blind-points-edge-keep 0"},
-                                                                  {"--blind-points-edge-keep-driving-only", " --no-blind-points-edge-keep-driving-only"}};
+                                                                  {"--feel-contacts", " --no-feel-contacts"}};
+    r.insert(r.end(), Session39Rules().begin(), Session39Rules().end());
+    return r;
+  }();
   return rules;
 }
-constexpr std::size_t kSession39Rules = 3;  // the last three of LaterRules()
 
-// The "off" flags of rules [first, end) of LaterRules(), but for the one named.
-std::string RulesOffBut(std::size_t first, const std::string& keep) {
+// The "off" flags of the rules, but for the one named.
+std::string RulesOffBut(const Rules& rules, const std::string& keep) {
   std::string flags;
-  for (std::size_t i = first; i < LaterRules().size(); ++i)
-    if (LaterRules()[i].first != keep) flags += LaterRules()[i].second;
+  for (const auto& [name, off] : rules)
+    if (name != keep) flags += off;
   return flags;
 }
 
-std::string LaterRulesOffBut(const std::string& keep) { return RulesOffBut(0, keep); }
+std::string LaterRulesOffBut(const std::string& keep) { return RulesOffBut(LaterRules(), keep); }
 
 // Session 39's three defaults (--mouth-drop-strays, --blind-points-edge-keep 15 and
 // --blind-points-edge-keep-driving-only) off, but for the one named.
-std::string Session39OffBut(const std::string& keep) { return RulesOffBut(LaterRules().size() - kSession39Rules, keep); }
+std::string Session39OffBut(const std::string& keep) { return RulesOffBut(Session39Rules(), keep); }
 
 // All three off: the explorer as it was when the failures below were found, most of which these
 // defaults avoid by another route.
@@ -635,7 +644,7 @@ TEST(ExploreCli, ACornerSeenDuringTheLookAroundIsStillKnownAtTheSetOff) {
   EXPECT_EQ(forgotten["first_hit"].get<std::string>(), "wall");
   EXPECT_NEAR(forgotten["first_collision_x_m"].get<double>(), 39.1, 0.25 + 0.15);
   EXPECT_NEAR(forgotten["first_collision_y_m"].get<double>(), -0.9, 0.25 + 0.15);
-  const nlohmann::json kept = summary("kept", Session39OffBut("--blind-points-edge-keep"));
+  const nlohmann::json kept = summary("kept", Session39OffBut("--blind-points-edge-keep") + " --blind-points-edge-keep 15");
   EXPECT_EQ(kept["collisions"].get<long>(), 0);
   EXPECT_EQ(kept["first_hit"].get<std::string>(), "");
   const nlohmann::json driving = summary("driving", "");  // the defaults since session 39
@@ -660,7 +669,7 @@ TEST(ExploreCli, AStrayPointInsideAMouthDoesNotKeepTheRobotOffItsCentre) {
   EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
   EXPECT_NEAR(off["first_collision_x_m"].get<double>(), 12.9, 0.25 + 0.1);
   EXPECT_NEAR(off["first_collision_y_m"].get<double>(), 1.4, 0.25 + 0.1);
-  const nlohmann::json on = summary("on", Session39OffBut("--mouth-drop-strays"));
+  const nlohmann::json on = summary("on", Session39OffBut("--mouth-drop-strays") + " --mouth-drop-strays");
   EXPECT_EQ(on["collisions"].get<long>(), 0);
   EXPECT_EQ(on["first_hit"].get<std::string>(), "");
   const nlohmann::json defaults = summary("defaults", "");
