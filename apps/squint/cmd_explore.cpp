@@ -153,6 +153,8 @@ struct ExplorerVariants {
   bool mirror_watch = true;
   // A driven corridor closed by a stall right after setting off is reopened on the next arrival (TopoMapOptions::reopen_blocked_driven).
   bool reopen_blocked_driven = false;
+  // The wall line's samples at least this far apart in travel (ExplorerOptions::branch_line_spacing_m; 0: one per step, the default).
+  double branch_line_spacing_m = 0.0;
   // Feel contacts from the wheels, remember them and reverse the way just driven (ExplorerOptions::feel_contacts; on since session 30).
   bool feel_contacts = true;
   int contact_frames = 2;  // ...on this many steps in a row (ExplorerOptions::contact_frames)
@@ -227,6 +229,7 @@ struct ExplorerVariants {
     ro.explorer.setoff_standing_hold_m = setoff_standing_hold_m;
     ro.explorer.mirror_watch = mirror_watch;
     ro.explorer.map.reopen_blocked_driven = reopen_blocked_driven;
+    ro.explorer.branch_line_spacing_m = branch_line_spacing_m;
     ro.explorer.feel_contacts = feel_contacts;
     ro.explorer.contact_frames = contact_frames;
     ro.explorer.memory.blind_points_from_m = blind_points_from_m;
@@ -379,6 +382,10 @@ struct ExplorerVariants {
                   text("Watch the visual sonar for the robot's own reflection, a disc of its radius that moves as the robot's position mirrored in a plane (it comes nearer at twice the robot's speed), which nothing standing does; where it shows, remember a wall on the mirror's plane that the floor seen through the mirror does not erase: a mirror shows the corridor going on behind its base, and corridor-5's robot weaved into its mirror end (on by default since session 29; docs/explore.md, session 29)"));
     cmd->add_flag("--reopen-blocked-driven,!--no-reopen-blocked-driven", reopen_blocked_driven,
                   text("A corridor the robot has driven that it found blocked right after setting off along it (the stall guard) is closed for the rest of that visit to the node only, and open again (explored) on the next arrival: the robot stood where it could not set off (inside a side branch's mouth), which says nothing of the corridor. Without it a T's bar closed that way from its stem left the robot shuttling between the stem's dead end and the T for the rest of the run (docs/explore.md, session 35)"));
+    cmd->add_option("--branch-line-spacing", branch_line_spacing_m,
+                    text("The wall line that tells an opening's floor edge from the wall (the median of a side's last 15 abeam readings) takes its readings at least this far apart in travel (metres): one per step they span 0.3 m, and a pair of stray points inside a brick wall became the line, so the wall beyond them ended early and the robot stopped at the carpeted middle corridor's near corner (0: one per step, the default; docs/explore.md, session 41)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("--feel-contacts,!--no-feel-contacts", feel_contacts,
                   text("Feel a contact from the wheels: commanded forward on two steps in a row while odometry shows (almost) no progress, something stands against the disc's front where the camera cannot see it; remember it as a point the floor seen later does not erase, reverse up to 0.1 m along the way just driven (the one reversal that is not blind) and look and choose as at any blockage (on by default since session 30; docs/explore.md, session 30)"));
     cmd->add_option("--contact-frames", contact_frames,

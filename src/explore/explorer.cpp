@@ -160,6 +160,7 @@ std::string ExplorerOptions::Validate() const {
   if (!(branch_line_band_m >= branch_line_tolerance_m && std::isfinite(branch_line_band_m)))
     return "branch_line_band_m must be >= branch_line_tolerance_m";
   if (branch_line_samples < 1) return "branch_line_samples must be at least 1";
+  if (!NonNegative(branch_line_spacing_m) || branch_line_spacing_m > 1.0) return "branch_line_spacing_m must be in [0, 1]";
   if (!NonNegative(light_axis_gain) || light_axis_gain > 1.0) return "light_axis_gain must be in [0, 1]";
   if (!NonNegative(light_drift_gain) || light_drift_gain > 1.0) return "light_drift_gain must be in [0, 1]";
   if (!Positive(light_drift_gate_deg) || !Positive(light_drift_window_m) || !Positive(light_drift_max_rms_m) ||
@@ -1315,7 +1316,9 @@ bool Explorer::TrackSides(const Percept& p) {
       }
       tr.wall_last_m = t;
       if (t - tr.wall_first_m >= opt_.branch_wall_before_m) tr.armed = true;
-      if (opt_.branch_line_tolerance_m > 0.0) {
+      if (opt_.branch_line_tolerance_m > 0.0 &&
+          (opt_.branch_line_spacing_m <= 0.0 || t - tr.line_last_m >= opt_.branch_line_spacing_m)) {
+        tr.line_last_m = t;
         tr.line.push_back(wall[k] + normal[k].dot(o - tr.ref));
         if (static_cast<int>(tr.line.size()) > opt_.branch_line_samples) tr.line.erase(tr.line.begin());
       }

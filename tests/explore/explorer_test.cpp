@@ -614,6 +614,36 @@ TEST(Explorer, SideBranchBehindAFloorEdgeIsFoundFromTheWallLine) {
   }
 }
 
+// The T behind a floor edge, with a 0.3 m piece of something inside the corridor's right wall (a
+// post's face at lateral 0.7 m, or 0.6 m) before the mouth: while it is abeam the nearest wall
+// reading is the post's. With one line sample per step those readings fill the wall line's 15
+// samples, the wall beyond the post then lies "beyond the line", and its run ends at the post: the
+// robot stops for the branch short of its centre line (x = 10), or, with the post 0.5 m before
+// the mouth, never. With the samples 0.1 m apart the post is a minority of the line's 1.5 m, the
+// wall runs on to the mouth, and the stop is at the centre. (Mouth centring is off, so the stop is
+// where the robot turns.)
+TEST(Explorer, WallLineSamplesSpacedInTravelOutlastAPostInsideTheWall) {
+  auto junction_x = [](double spacing, double lateral, double at) {
+    ToyPlan world = TPlan();
+    world.walls.push_back({9, -1.25, 11, -1.25, true, true});
+    world.walls.push_back({at - 0.15, -lateral, at + 0.15, -lateral});
+    ExplorerOptions o;
+    o.mouth_centre_min_m = 0.0;
+    o.branch_line_spacing_m = spacing;
+    Explorer explorer(o);
+    for (int i = 0; i < 30 * 60; ++i) {
+      world.Apply(explorer.Step(world.Perceive()));
+      for (const ExploreEvent& e : explorer.Events())
+        if (e.kind == ExploreEvent::Kind::kJunction) return world.pose.x;
+    }
+    return -1.0;  // no stop for the branch
+  };
+  EXPECT_LT(junction_x(0.0, 0.7, 7.0), 9.0);
+  EXPECT_NEAR(junction_x(0.1, 0.7, 7.0), 10.0, 0.2);
+  EXPECT_LT(junction_x(0.0, 0.6, 8.5), 0.0);
+  EXPECT_NEAR(junction_x(0.1, 0.6, 8.5), 10.0, 0.2);
+}
+
 // An L corner into a branch wider than the corridor: a 2 m corridor along x ends at x = 25, and a
 // 3.6 m branch leaves it to the left (north) between x = 21.4 and x = 25, 11 m deep. The robot
 // stops about 1.1 m short of the end wall, 0.7 m past the branch's centre line (x = 23.2). With
@@ -1568,6 +1598,11 @@ TEST(Explorer, OptionsValidateNamesTheField) {
     ExplorerOptions o;
     o.branch_line_tolerance_m = 0.7;  // beyond the band
     EXPECT_NE(o.Validate().find("branch_line_band_m"), std::string::npos);
+  }
+  {
+    ExplorerOptions o;
+    o.branch_line_spacing_m = -0.1;
+    EXPECT_NE(o.Validate().find("branch_line_spacing_m"), std::string::npos);
     o = ExplorerOptions{};
     o.heading_filter_prior_std_deg = -1.0;
     EXPECT_NE(o.Validate().find("heading_filter_prior_std_deg"), std::string::npos);

@@ -526,6 +526,14 @@ struct ExplorerOptions {
   double branch_line_tolerance_m = 0.12;
   double branch_line_band_m = 0.6;
   int branch_line_samples = 15;
+  // The wall line's samples at least this far apart in travel along the corridor (0: one per
+  // step, as before). One per step, the 15 samples span the last 0.3 m at full speed, and a pair of
+  // points 0.3 m inside a brick wall, abeam for 0.6 m, became the line: the wall beyond them then
+  // lay "beyond the line", its run ended 0.64 m before the mouth of `default`'s carpeted middle
+  // corridor, and the robot stopped 0.15 m past the mouth's near corner, 1.05 m off its centre line
+  // (45-minute seed 1 with --wall-line-align --reopen-blocked-driven). 0.1 spans 1.5 m. Off (0) by
+  // default (`squint explore --branch-line-spacing 0.1`; docs/explore.md, session 41).
+  double branch_line_spacing_m = 0.0;
   // The band cleared is only as long as the opening (from where that side's wall run ended, for
   // the opening's width), not centred on where the robot stopped: stopped 1 m short of a T's
   // bar's centre line (corridor-9 start 5 of seed 3), the band reached back over the last 1.8 m
@@ -621,6 +629,7 @@ struct SideTrack {
   double far_m = -1.0;         // the opening's far edge (travel coordinate), when seen
   Eigen::Vector2d ref{0.0, 0.0};   // the run's first robot position (odometry frame)
   std::vector<double> line;        // the run's last abeam readings as outward offsets from ref
+  double line_last_m = -1e9;       // travel at the last of them (branch_line_spacing_m)
 };
 
 // Whether a wall seen abeam at travel `travel_m` starts a new run of `track` (the first, one after a
