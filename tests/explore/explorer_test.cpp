@@ -1598,14 +1598,14 @@ TEST(Explorer, OptionsValidateNamesTheField) {
     ExplorerOptions o;
     o.branch_line_tolerance_m = 0.7;  // beyond the band
     EXPECT_NE(o.Validate().find("branch_line_band_m"), std::string::npos);
+    o = ExplorerOptions{};
+    o.heading_filter_prior_std_deg = -1.0;
+    EXPECT_NE(o.Validate().find("heading_filter_prior_std_deg"), std::string::npos);
   }
   {
     ExplorerOptions o;
     o.branch_line_spacing_m = -0.1;
     EXPECT_NE(o.Validate().find("branch_line_spacing_m"), std::string::npos);
-    o = ExplorerOptions{};
-    o.heading_filter_prior_std_deg = -1.0;
-    EXPECT_NE(o.Validate().find("heading_filter_prior_std_deg"), std::string::npos);
   }
   ExplorerOptions o;
   EXPECT_TRUE(o.Validate().empty());
