@@ -146,6 +146,7 @@ std::string SummaryJson(const ExploreSummary& s) {
   j["obstacle_stops"] = s.obstacle_stops;
   // Sonar scans that showed the robot's own reflection (`--mirror-watch`; 0 when off).
   j["mirror_scans"] = s.mirror_scans;
+  j["align_line_overrides"] = s.align_line_overrides;
   // Contacts the robot felt from its wheels (`--feel-contacts`; 0 when off).
   j["contacts_felt"] = s.contacts_felt;
   j["near_edges"] = s.near_edges;

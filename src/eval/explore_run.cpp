@@ -260,10 +260,13 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
     p.glance_entropy_nats = r.entropy;
     // While following; while probing too where the explorer takes a side the lines show free as open.
     // While scanning and aligning too where the explorer takes its axis from them at a standstill.
+    // (explorer.wall_line_align_over_deg alone: there the frame gives the lines' heading only, so a
+    // run whose lines never override the glance is the defaults' step for step.)
+    const bool standstill = explorer.State() == explore::ExploreState::kScan || explorer.State() == explore::ExploreState::kAlign;
+    const bool heading_only = standstill && !options.explorer.wall_line_align;
     const bool wall_lines_now = explorer.State() == explore::ExploreState::kFollow ||
                                 (explorer.State() == explore::ExploreState::kProbe && options.explorer.wall_line_free_m > 0.0) ||
-                                ((explorer.State() == explore::ExploreState::kScan || explorer.State() == explore::ExploreState::kAlign) &&
-                                 options.explorer.wall_line_align);
+                                (standstill && explorer.WantsAlignLines());
     if (wall_renderer && wall_lines_now && f % options.wall_lines_every == 0) {
       MutableGrayView wv{wall_image.data, wall_image.cols, wall_image.rows, static_cast<std::ptrdiff_t>(wall_image.step)};
       double cpu4 = 0.0;
@@ -277,11 +280,13 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
         cpu4 = ThreadCpuSeconds();
       }
       explore::WallLines wl = explore::FindWallLines(wv, *wall_camera, options.wall_lines);
-      wall_bottom_texture = std::move(wl.bottom_texture);
-      p.wall_bottom_texture = &wall_bottom_texture;
       perception_cpu += ThreadCpuSeconds() - cpu4;
       if (wl.valid) p.wall_line_heading_deg = wl.HeadingDeg();
-      p.wall_line_corridor_ahead_m = wl.valid ? wl.corridor_ahead_m : 0.0;
+      if (!heading_only) {
+        wall_bottom_texture = std::move(wl.bottom_texture);
+        p.wall_bottom_texture = &wall_bottom_texture;
+        p.wall_line_corridor_ahead_m = wl.valid ? wl.corridor_ahead_m : 0.0;
+      }
     }
     if (sonar && f % options.sonar_every == 0) {
       MutableGrayView sv{sonar_image.data, sonar_image.cols, sonar_image.rows, static_cast<std::ptrdiff_t>(sonar_image.step)};
@@ -410,6 +415,7 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   s.override_frames = explorer.ObstacleOverrides();
   s.obstacle_stops = explorer.ObstacleStops();
   s.mirror_scans = explorer.MirrorsFound();
+  s.align_line_overrides = explorer.AlignLineOverrides();
   s.contacts_felt = explorer.ContactsFelt();
   s.near_edges = explorer.NearEdgesRanged();
   if (!axis_errors.empty()) {

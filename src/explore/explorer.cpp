@@ -161,6 +161,8 @@ std::string ExplorerOptions::Validate() const {
     return "branch_line_band_m must be >= branch_line_tolerance_m";
   if (branch_line_samples < 1) return "branch_line_samples must be at least 1";
   if (!NonNegative(branch_line_spacing_m) || branch_line_spacing_m > 1.0) return "branch_line_spacing_m must be in [0, 1]";
+  if (!NonNegative(wall_line_align_over_deg) || wall_line_align_over_deg > 45.0)
+    return "wall_line_align_over_deg must be in [0, 45]";
   if (!NonNegative(light_axis_gain) || light_axis_gain > 1.0) return "light_axis_gain must be in [0, 1]";
   if (!NonNegative(light_drift_gain) || light_drift_gain > 1.0) return "light_drift_gain must be in [0, 1]";
   if (!Positive(light_drift_gate_deg) || !Positive(light_drift_window_m) || !Positive(light_drift_max_rms_m) ||
@@ -631,7 +633,7 @@ Command Explorer::ScanStep(const Percept& p) {
     // The axis a heading reading implies, modulo 90° in [0, π/2).
     auto axis_mod90 = [&](double heading_deg) { return std::fmod(p.odom_T_robot.yaw - DegToRad(heading_deg) + 8 * kPi, kPi / 2); };
     if (p.processed && p.heading_deg) scan_axis_mod90_.push_back(axis_mod90(*p.heading_deg));
-    if (opt_.wall_line_align && p.wall_line_heading_deg) scan_line_axis_mod90_.push_back(axis_mod90(*p.wall_line_heading_deg));
+    if (WantsAlignLines() && p.wall_line_heading_deg) scan_line_axis_mod90_.push_back(axis_mod90(*p.wall_line_heading_deg));
     // Progress of the full turn from the yaw travelled (odometry).
     scan_turned_ += std::abs(WrapPi(p.odom_T_robot.yaw - scan_prev_yaw_));
     scan_prev_yaw_ = p.odom_T_robot.yaw;
@@ -703,9 +705,16 @@ Command Explorer::ScanStep(const Percept& p) {
       if (!have_axis || std::abs(std::remainder(wall_axis - axis_mod, kPi / 2)) > DegToRad(10.0)) axis_mod = wall_axis;
       have_axis = true;
     }
-    // The walls' lines, where they read, outvote both.
+    // The walls' lines, where they read, outvote both (wall_line_align_over_deg: only where they
+    // disagree by more than that, or where the others give no axis).
     if (scan_line_axis_mod90_.size() >= 5) {
-      axis_mod = mode_mod90(scan_line_axis_mod90_);
+      const double line_mod = mode_mod90(scan_line_axis_mod90_);
+      if (opt_.wall_line_align) {
+        axis_mod = line_mod;
+      } else if (!have_axis || std::abs(std::remainder(line_mod - axis_mod, kPi / 2)) > DegToRad(opt_.wall_line_align_over_deg)) {
+        axis_mod = line_mod;
+        ++align_line_overrides_;
+      }
       have_axis = true;
     }
     double best = -1.0;
@@ -754,7 +763,7 @@ Command Explorer::AlignStep(const Percept& p) {
     return {};
   }
   if (p.processed && p.heading_deg) align_samples_.push_back(*p.heading_deg);
-  if (opt_.wall_line_align && p.wall_line_heading_deg) align_line_samples_.push_back(*p.wall_line_heading_deg);
+  if (WantsAlignLines() && p.wall_line_heading_deg) align_line_samples_.push_back(*p.wall_line_heading_deg);
   if (!start_checked_ && p.glance_entropy_nats) {
     start_entropy_sum_ += *p.glance_entropy_nats;
     ++start_entropy_n_;
@@ -795,14 +804,19 @@ Command Explorer::AlignStep(const Percept& p) {
     if (3 * near >= 2 * static_cast<std::ptrdiff_t>(d.size())) {
       const double line = ref + mid;
       const double nearest = line + 90.0 * std::round((median - line) / 90.0);
-      // Far from the glance's median (which of the four the axis is, the glance cannot tell):
-      // look all around once, the lines giving the axis and the free travel the direction.
-      if (std::abs(nearest - median) > kAlignLineAgreeDeg && !align_line_scanned_) {
-        align_line_scanned_ = true;
-        StartScan(p);
-        return {};
+      // wall_line_align_over_deg: lines that agree with the glance leave its median alone.
+      const bool overrides = opt_.wall_line_align || std::abs(nearest - median) > opt_.wall_line_align_over_deg;
+      if (overrides) {
+        if (!opt_.wall_line_align) ++align_line_overrides_;
+        // Far from the glance's median (which of the four the axis is, the glance cannot tell):
+        // look all around once, the lines giving the axis and the free travel the direction.
+        if (std::abs(nearest - median) > kAlignLineAgreeDeg && !align_line_scanned_) {
+          align_line_scanned_ = true;
+          StartScan(p);
+          return {};
+        }
+        median = nearest;
       }
-      median = nearest;
     }
   }
   if (align_round_ < opt_.align_rounds && std::abs(median) > opt_.align_done_deg) {

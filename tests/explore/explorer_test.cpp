@@ -784,6 +784,52 @@ TEST(Explorer, WallLinesSetTheAxisAtTheStartWhereTheGlanceIsOff) {
   }
 }
 
+// wall_line_align_over_deg (25): the same start with the glance 40° off sets off along the
+// corridor as with wall_line_align (the lines disagree by more than 25°); with the glance 8° off the
+// lines agree within 25°, so they never override it, and the run is the defaults' command for
+// command (the lines read at the standstill change nothing), setting off as far off as they do.
+TEST(Explorer, WallLinesOverrideTheGlanceAtAStandstillOnlyWhereTheyDisagree) {
+  for (const double bias : {40.0, 8.0}) {
+    SCOPED_TRACE(bias);
+    ToyPlan a, b;  // a: the defaults; b: wall_line_align_over_deg
+    for (ToyPlan* w : {&a, &b}) {
+      w->walls = {{-1, -1, 30, -1}, {-1, 1, 30, 1}, {-1, -1, -1, 1}, {30, -1, 30, 1}};
+      w->pose = {8.0, 0.0, DegToRad(-bias)};
+      w->wall_lines = true;
+      w->glance_bias_deg = bias;
+    }
+    ExplorerOptions oa;
+    oa.wall_line_axis_gain = 0.2;
+    ExplorerOptions ob = oa;
+    ob.wall_line_align_over_deg = 25.0;
+    Explorer ea(oa), eb(ob);
+    std::optional<double> setoff_a, setoff_b;
+    bool same = true;
+    for (int i = 0; i < 30 * 40 && !(setoff_a && setoff_b); ++i) {
+      const Command ca = ea.Step(a.Perceive()), cb = eb.Step(b.Perceive());
+      same = same && ca.v_mps == cb.v_mps && ca.omega_rps == cb.omega_rps;
+      a.Apply(ca);
+      b.Apply(cb);
+      if (!setoff_a && ea.State() == ExploreState::kFollow) setoff_a = RadToDeg(a.pose.yaw);
+      if (!setoff_b && eb.State() == ExploreState::kFollow) setoff_b = RadToDeg(b.pose.yaw);
+    }
+    ASSERT_TRUE(setoff_a.has_value() && setoff_b.has_value()) << "never set off";
+    const double off_a = std::abs(std::remainder(*setoff_a, 180.0)), off_b = std::abs(std::remainder(*setoff_b, 180.0));
+    EXPECT_EQ(ea.AlignLineOverrides(), 0);  // counted only in the over mode
+    if (bias > 25.0) {
+      EXPECT_GT(off_a, 30.0);
+      EXPECT_LT(off_b, 2.0);
+      EXPECT_GE(eb.AlignLineOverrides(), 1);
+      EXPECT_FALSE(same);
+    } else {
+      EXPECT_GT(off_a, 5.0);  // the glance's 8° stands...
+      EXPECT_TRUE(same);      // ...command for command
+      EXPECT_EQ(eb.AlignLineOverrides(), 0);
+      EXPECT_DOUBLE_EQ(*setoff_a, *setoff_b);
+    }
+  }
+}
+
 // A 1.2 m wide recess on the right at x = 6.5-7.7 whose back wall the sonar does not read (a wall
 // of the floor's grey) is taken for an opening and judged a wall at its probe (its entropy is a
 // wall's); the T's stem on the
@@ -1606,6 +1652,15 @@ TEST(Explorer, OptionsValidateNamesTheField) {
     ExplorerOptions o;
     o.branch_line_spacing_m = -0.1;
     EXPECT_NE(o.Validate().find("branch_line_spacing_m"), std::string::npos);
+  }
+  {
+    ExplorerOptions o;
+    o.wall_line_align_over_deg = 50.0;
+    EXPECT_NE(o.Validate().find("wall_line_align_over_deg"), std::string::npos);
+    o.wall_line_align_over_deg = -1.0;
+    EXPECT_NE(o.Validate().find("wall_line_align_over_deg"), std::string::npos);
+    o.wall_line_align_over_deg = 25.0;
+    EXPECT_TRUE(o.Validate().empty());
   }
   ExplorerOptions o;
   EXPECT_TRUE(o.Validate().empty());

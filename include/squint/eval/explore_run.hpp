@@ -56,7 +56,8 @@ struct ExploreRunOptions {
   // The walls' base lines (wall_lines.hpp) on a camera frame of wall_lines_width ×
   // wall_lines_height (only the rows from a little above the horizon down are rendered: BelowHorizon),
   // every wall_lines_every frames while the explorer follows a corridor (and while it probes, where
-  // explorer.wall_line_free_m > 0; while it scans and aligns, where explorer.wall_line_align), where
+  // explorer.wall_line_free_m > 0; while it scans and aligns, where explorer.wall_line_align or
+  // explorer.wall_line_align_over_deg), where
   // explorer.wall_line_axis_gain > 0.
   int wall_lines_every = 3;
   int wall_lines_width = 128;
@@ -150,6 +151,7 @@ struct ExploreSummary {
   // obstacle across the path, frames the explorer's override steered or stopped, stop-and-turns.
   long ipt_pairs = 0, ipt_classified = 0, advice_in_path = 0, override_frames = 0;
   int obstacle_stops = 0;
+  int align_line_overrides = 0;  // the walls' lines overrode the glance at a standstill (--wall-line-align-over)
   int mirror_scans = 0;  // sonar scans that showed the robot's own reflection (--mirror-watch)
   int contacts_felt = 0;  // contacts felt from the wheels (--feel-contacts)
   long near_edges = 0;    // edges ranged inside the blind range while setting off (--setoff-near-edges)

@@ -273,6 +273,16 @@ struct ExplorerOptions {
   // the lines' frames while scanning and aligning (eval::RunExplore renders them when this is on
   // and wall_line_axis_gain > 0). `squint explore --wall-line-align`; docs/explore.md, session 17.
   bool wall_line_align = false;
+  // > 0 (degrees), without wall_line_align: the walls' lines are read while scanning and aligning
+  // too, but set the axis there only where they disagree with the glance by more than this: in the
+  // start-up scan where their mode lies this far from the axis the glance and the remembered walls
+  // give (or those give none), in the alignment where the lines' heading nearest the glance's
+  // median lies this far from it. Where they agree the run is the defaults' step for step: the
+  // set-offs 28-44 degrees off the axis that met things (corridor-8 61/2, the obstacle course 100/5
+  // and 43/8, `default` 74/4) are corrected, and the set-offs beside a chair or a floor-grey wall
+  // that wall_line_align moved by a few degrees are not. `squint explore --wall-line-align-over D`;
+  // docs/explore.md, session 42. Off (0) by default.
+  double wall_line_align_over_deg = 0.0;
   double rescan_yaw_deg = 12.0;       // no forward motion until a scan was taken at the heading
   // Following: after this travel in the corridor the latest scan's blocked-near columns block only
   // the narrow sector at the blind range, and those along which the floor in the blind zone was
@@ -693,6 +703,11 @@ class Explorer {
   long BlindTextureColumns() const { return blind_texture_kept_; }
   // Sonar scans that showed the robot's own reflection (mirror_watch).
   int MirrorsFound() const { return mirror_.Found(); }
+  // How often the walls' lines overrode the glance at a standstill under wall_line_align_over_deg
+  // (scan axes and alignment medians replaced); 0 means the run is the defaults' step for step.
+  int AlignLineOverrides() const { return align_line_overrides_; }
+  // True while the walls' lines are wanted at a standstill (wall_line_align or wall_line_align_over_deg).
+  bool WantsAlignLines() const { return opt_.wall_line_align || opt_.wall_line_align_over_deg > 0.0; }
   // Vertical edges ranged inside the blind range while setting off (setoff_near_edges).
   long NearEdgesRanged() const { return near_edges_ranged_; }
   // Contacts felt from the wheels (feel_contacts).
@@ -889,6 +904,7 @@ class Explorer {
   std::vector<double> align_samples_;
   std::vector<double> align_line_samples_;  // the walls' lines' headings while aligning (wall_line_align)
   bool align_line_scanned_ = false;  // the lines sent this alignment to a full scan once already
+  int align_line_overrides_ = 0;  // (wall_line_align_over_deg) the lines overrode the glance
   static constexpr double kAlignLineAgreeDeg = 20.0;  // the lines' heading this far from the glance's: scan
   int align_round_ = 0;
   bool align_rotating_ = false;
