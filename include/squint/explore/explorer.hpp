@@ -280,7 +280,7 @@ struct ExplorerOptions {
   // median lies this far from it. Where they agree the run is the defaults' step for step. With 25
   // the set-offs 28-44 degrees off the axis that met things (corridor-8 61/2, the obstacle course
   // 100/5 and 43/8, `default` 74/4) are corrected in replays, and the set-offs that wall_line_align
-  // moved by a few degrees toward a chair or a floor-grey wall are left alone; but on seeds 1-46 of
+  // moved by a few degrees toward a chair or a floor-grey wall are left alone; but on seeds 1-48 of
   // the seeded starts it cleared one failure and added two (runs whose route an override changed),
   // and at 45 minutes it missed seed 14's middle corridor. `squint explore --wall-line-align-over D`;
   // docs/explore.md, session 42. Off (0) by default.
