@@ -709,12 +709,7 @@ Command Explorer::ScanStep(const Percept& p) {
     // disagree by more than that, or where the others give no axis).
     if (scan_line_axis_mod90_.size() >= 5) {
       const double line_mod = mode_mod90(scan_line_axis_mod90_);
-      if (opt_.wall_line_align) {
-        axis_mod = line_mod;
-      } else if (!have_axis || std::abs(std::remainder(line_mod - axis_mod, kPi / 2)) > DegToRad(opt_.wall_line_align_over_deg)) {
-        axis_mod = line_mod;
-        ++align_line_overrides_;
-      }
+      if (LinesOverride(have_axis ? RadToDeg(std::abs(std::remainder(line_mod - axis_mod, kPi / 2))) : 90.0)) axis_mod = line_mod;
       have_axis = true;
     }
     double best = -1.0;
@@ -804,10 +799,7 @@ Command Explorer::AlignStep(const Percept& p) {
     if (3 * near >= 2 * static_cast<std::ptrdiff_t>(d.size())) {
       const double line = ref + mid;
       const double nearest = line + 90.0 * std::round((median - line) / 90.0);
-      // wall_line_align_over_deg: lines that agree with the glance leave its median alone.
-      const bool overrides = opt_.wall_line_align || std::abs(nearest - median) > opt_.wall_line_align_over_deg;
-      if (overrides) {
-        if (!opt_.wall_line_align) ++align_line_overrides_;
+      if (LinesOverride(std::abs(nearest - median))) {
         // Far from the glance's median (which of the four the axis is, the glance cannot tell):
         // look all around once, the lines giving the axis and the free travel the direction.
         if (std::abs(nearest - median) > kAlignLineAgreeDeg && !align_line_scanned_) {
@@ -840,6 +832,13 @@ Command Explorer::AlignStep(const Percept& p) {
   align_line_scanned_ = false;
   StartFollow(p);
   return {};
+}
+
+bool Explorer::LinesOverride(double disagree_deg) {
+  if (opt_.wall_line_align) return true;
+  if (!(disagree_deg > opt_.wall_line_align_over_deg)) return false;
+  ++align_line_overrides_;
+  return true;
 }
 
 void Explorer::ClearAlignSamples() {

@@ -1039,7 +1039,6 @@ TEST(ExploreCli, CompareExploreMatchesASetWithItselfAndNamesBadInput) {
   std::filesystem::remove_all(dir);
 }
 
-
 // Two of the defaults' seven failing seeded starts (session 39), set-offs far off the axis: corridor-8's
 // start 2 of seed 61 (the glance's axis 36° from the walls' lines; the wall met at 2.3 s) and
 // `default`'s start 4 of seed 74 (41°; met at 35.1 s). With --wall-line-align-over 25 the lines

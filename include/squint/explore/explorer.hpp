@@ -745,6 +745,10 @@ class Explorer {
   // remembered walls of its mouth (mouth_centre_min_m); false when they do not show one.
   bool MouthCentre(const Percept& p, int side, double* along_m) const;
   void StartScan(const Percept& p);  // a full turn in place from the current yaw, its tallies cleared
+  // At a standstill, whether the walls' lines, disagree_deg from the glance's axis (90 where the
+  // glance gives none), replace it: always with wall_line_align; with wall_line_align_over_deg
+  // where they disagree by more than that (counted in align_line_overrides_).
+  bool LinesOverride(double disagree_deg);
   void ClearAlignSamples();          // the glance's and the walls' lines' headings gathered while aligning
   // Before a turn into a side branch: back to the axis, then along it to the mouth's centre.
   Command ShiftStep(const Percept& p);
