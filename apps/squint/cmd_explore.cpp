@@ -80,6 +80,8 @@ struct ExplorerVariants {
   bool wall_line_align = false;
   // ...only where they disagree with the glance by more than this (degrees; ExplorerOptions::wall_line_align_over_deg; 0: off).
   double wall_line_align_over_deg = 0.0;
+  // A scan takes no direction whose entropy is below this fraction of the best of the four (ExplorerOptions::scan_entropy_floor; 0: off).
+  double scan_entropy_floor = 0.0;
   // An opening beside a junction whose side was judged a wall is looked at (ExplorerOptions::opening_beside_wall_node; off).
   bool opening_beside_wall_node = false;
   // The branch a stop's node was entered by is explored only when the robot came along it
@@ -201,6 +203,7 @@ struct ExplorerVariants {
     ro.explorer.mouth_drop_strays = mouth_drop_strays;
     ro.explorer.wall_line_align = wall_line_align;
     ro.explorer.wall_line_align_over_deg = wall_line_align_over_deg;
+    ro.explorer.scan_entropy_floor = scan_entropy_floor;
     ro.explorer.opening_beside_wall_node = opening_beside_wall_node;
     ro.explorer.arrival_min_travel_m = arrival_min_travel_m;
     ro.explorer.shift_stall_s = shift_stall_s;
@@ -292,6 +295,9 @@ struct ExplorerVariants {
     cmd->add_option("--wall-line-align-over", wall_line_align_over_deg,
                     text("With --wall-lines and without --wall-line-align: the walls' lines are read while scanning and aligning at a standstill too, and set the axis there only where they disagree with the glance by more than this many degrees; where they agree the run is the defaults' step for step (summary.json counts the overrides as align_line_overrides; 0: off, the default; docs/explore.md, session 42)"))
         ->check(CLI::Range(0.0, 45.0));
+    cmd->add_option("--scan-entropy-floor", scan_entropy_floor,
+                    text("A scan in place does not set off along a direction of its axis whose glance entropy is below this fraction of the highest of the four, whatever free travel the memory gives it: a door up close read as a corridor view and, its near columns forgotten, as the only free direction; a run whose scans never lose their choice to this is the run without it step for step (summary.json counts the scans it changed as scan_entropy_skips; 0: off, the default; docs/explore.md, session 43)"))
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("--opening-beside-wall-node,!--no-opening-beside-wall-node", opening_beside_wall_node,
                   text("An opening found more than 0.8 m from a known junction whose side there was judged a wall is looked at as a new opening instead of being passed (off by default; docs/explore.md, session 17)"));
     cmd->add_option("--arrival-min-travel", arrival_min_travel_m,
@@ -521,11 +527,12 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
   // mirror_scans counts the sonar scans that showed the robot's own reflection (--mirror-watch);
   // contacts_felt the contacts the robot felt from its wheels (--feel-contacts); near_edges the edges
   // ranged inside the blind range while setting off (--setoff-near-edges); align_line_overrides how
-  // often the walls' lines overrode the glance at a standstill (--wall-line-align-over).
+  // often the walls' lines overrode the glance at a standstill (--wall-line-align-over);
+  // scan_entropy_skips the scans whose choice of direction --scan-entropy-floor changed.
   std::string csv =
       "world,start,x_m,y_m,yaw_deg,sim_seconds,distance_m,coverage,ends_detected,turns,collisions,proceeded,"
       "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg,first_collision_s,first_hit,mirror_scans,contacts_felt,near_edges,"
-      "align_line_overrides\n";
+      "align_line_overrides,scan_entropy_skips\n";
   std::map<std::string, int> first_hits;  // world: what, -> runs whose first contact it was
   int total_collisions = 0, runs = 0, clean = 0;
   int off_axis_runs = 0, setoff_off = 0;  // runs with following frames; set-offs more than 10° off the axis
@@ -556,7 +563,7 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
              Cell(s.setoff_axis_error_deg, 2) + "," + Cell(s.axis_error_p90_deg, 2) + "," + Cell(s.axis_error_over_10deg, 4) +
              "," + Cell(s.first_collision_s, 2) + "," + CsvText(s.first_hit) + "," + std::to_string(s.mirror_scans) + "," +
              std::to_string(s.contacts_felt) + "," + std::to_string(s.near_edges) + "," +
-             std::to_string(s.align_line_overrides) + "\n";
+             std::to_string(s.align_line_overrides) + "," + std::to_string(s.scan_entropy_skips) + "\n";
       if (!s.first_hit.empty()) ++first_hits[world.name + ": " + s.first_hit];
       if (std::isfinite(s.axis_error_over_10deg)) {
         off_axis_sum += s.axis_error_over_10deg;

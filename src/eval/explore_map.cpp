@@ -147,6 +147,8 @@ std::string SummaryJson(const ExploreSummary& s) {
   // Sonar scans that showed the robot's own reflection (`--mirror-watch`; 0 when off).
   j["mirror_scans"] = s.mirror_scans;
   j["align_line_overrides"] = s.align_line_overrides;
+  // Scans whose choice of direction `--scan-entropy-floor` changed (0 when off).
+  j["scan_entropy_skips"] = s.scan_entropy_skips;
   // Contacts the robot felt from its wheels (`--feel-contacts`; 0 when off).
   j["contacts_felt"] = s.contacts_felt;
   j["near_edges"] = s.near_edges;

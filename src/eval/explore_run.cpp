@@ -416,6 +416,7 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   s.obstacle_stops = explorer.ObstacleStops();
   s.mirror_scans = explorer.MirrorsFound();
   s.align_line_overrides = explorer.AlignLineOverrides();
+  s.scan_entropy_skips = explorer.ScanEntropySkips();
   s.contacts_felt = explorer.ContactsFelt();
   s.near_edges = explorer.NearEdgesRanged();
   if (!axis_errors.empty()) {

@@ -163,6 +163,7 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(branch_line_spacing_m) || branch_line_spacing_m > 1.0) return "branch_line_spacing_m must be in [0, 1]";
   if (!NonNegative(wall_line_align_over_deg) || wall_line_align_over_deg > 45.0)
     return "wall_line_align_over_deg must be in [0, 45]";
+  if (!NonNegative(scan_entropy_floor) || scan_entropy_floor > 1.0) return "scan_entropy_floor must be in [0, 1]";
   if (!NonNegative(light_axis_gain) || light_axis_gain > 1.0) return "light_axis_gain must be in [0, 1]";
   if (!NonNegative(light_drift_gain) || light_drift_gain > 1.0) return "light_drift_gain must be in [0, 1]";
   if (!Positive(light_drift_gate_deg) || !Positive(light_drift_window_m) || !Positive(light_drift_max_rms_m) ||
@@ -715,15 +716,27 @@ Command Explorer::ScanStep(const Percept& p) {
     double best = -1.0;
     double best_yaw = scan_start_yaw_;
     if (have_axis) {
+      // scan_entropy_floor: a direction with too little entropy for a corridor view is not taken.
+      double top_entropy = 0.0;
+      for (int k = 0; k < 4; ++k) top_entropy = std::max(top_entropy, entropy_at(WrapPi(axis_mod + k * kPi / 2)));
+      double best_any = -1.0;  // the best score without the floor, to count the scans it changed
+      bool best_any_skipped = false;
       for (int k = 0; k < 4; ++k) {
         const double yaw = WrapPi(axis_mod + k * kPi / 2);
         // With the sonar the free travel decides (metres dominate), entropy breaks ties.
         const double h = entropy_at(yaw) + (sonar_seen_ ? 10.0 * scan_free(yaw) : 0.0);
+        const bool skipped = opt_.scan_entropy_floor > 0.0 && entropy_at(yaw) < opt_.scan_entropy_floor * top_entropy;
+        if (h > best_any) {
+          best_any = h;
+          best_any_skipped = skipped;
+        }
+        if (skipped) continue;
         if (h > best) {
           best = h;
           best_yaw = yaw;
         }
       }
+      if (best_any_skipped) ++scan_entropy_skips_;
     } else {
       for (int i = 0; i < bins; ++i) {
         const double yaw = WrapPi(scan_start_yaw_ + (i + 0.5) * 2 * kPi / bins);

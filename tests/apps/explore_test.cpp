@@ -68,7 +68,7 @@ TEST(ExploreCli, EvalExploreWritesTheRunsTableAndTheAxisFigures) {
   EXPECT_EQ(line,
             "world,start,x_m,y_m,yaw_deg,sim_seconds,distance_m,coverage,ends_detected,turns,collisions,proceeded,"
             "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg,first_collision_s,first_hit,"
-            "mirror_scans,contacts_felt,near_edges,align_line_overrides");
+            "mirror_scans,contacts_felt,near_edges,align_line_overrides,scan_entropy_skips");
   int rows = 0;
   while (std::getline(csv, line)) {
     ++rows;
@@ -76,11 +76,12 @@ TEST(ExploreCli, EvalExploreWritesTheRunsTableAndTheAxisFigures) {
     std::stringstream ss(line);
     for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
     if (!line.empty() && line.back() == ',') cells.emplace_back();
-    ASSERT_EQ(cells.size(), 22u) << line;
+    ASSERT_EQ(cells.size(), 23u) << line;
     EXPECT_EQ(cells[0], "corridor-0");
     EXPECT_EQ(cells[18], "0") << line;  // no mirror in corridor-0 (mirror_scans)
     EXPECT_GE(std::stol(cells[20]), 0) << line;  // near_edges: a count
     EXPECT_EQ(cells[21], "0") << line;  // align_line_overrides: none without --wall-line-align-over
+    EXPECT_EQ(cells[22], "0") << line;  // scan_entropy_skips: none without --scan-entropy-floor
     if (cells[10] == "0") {
       EXPECT_EQ(cells[19], "0") << line;  // no contact felt without a collision (contacts_felt)
     }

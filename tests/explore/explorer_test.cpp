@@ -1396,6 +1396,42 @@ TEST(Explorer, ScanDoesNotSetOffIntoAWallFillingTheView) {
   }
 }
 
+// A start facing a door up close (yaw 0: glance entropy 2.6, below the corridor view's 2.7, so
+// the start-up scan runs; the sonar sees the floor far there, as where a door's near columns were
+// forgotten), the corridor running along y (3.3 nats both ways, the floor's edge seen 1.3 m away
+// across the view) and a bare wall behind (2.2 nats). The free travel decides the scan's choice, so
+// without scan_entropy_floor the robot sets off toward the door; with 0.9 the door's and the far
+// wall's entropy (0.79 and 0.67 of the corridor's) keep them out and it sets off along the corridor,
+// counted once in ScanEntropySkips.
+TEST(Explorer, ScanEntropyFloorKeepsALowEntropyDirectionOut) {
+  for (const double floor : {0.0, 0.9}) {
+    ExplorerOptions o;
+    o.detect_branches = false;
+    o.scan_entropy_floor = floor;
+    Explorer e(o);
+    ScriptedSonar w;
+    w.boundary_m = 1.3;
+    auto toward_door = [&w](double bearing) { return std::abs(WrapPi(w.pose.yaw + bearing)) < DegToRad(50.0); };
+    w.column = [toward_door](double b) { return toward_door(b) ? SonarReturn::kFar : SonarReturn::kBoundary; };
+    bool scanned = false;
+    for (int i = 0; i < 30 * 60 && !(scanned && e.State() != ExploreState::kScan); ++i) {
+      const double yaw = std::abs(WrapPi(w.pose.yaw));
+      w.entropy = yaw < DegToRad(40.0) ? 2.6 : yaw > DegToRad(140.0) ? 2.2 : 3.3;
+      w.Step(e);
+      scanned = scanned || e.State() == ExploreState::kScan;
+    }
+    ASSERT_TRUE(scanned) << floor;
+    const double yaw_deg = std::abs(RadToDeg(WrapPi(w.pose.yaw)));
+    if (floor > 0.0) {
+      EXPECT_NEAR(yaw_deg, 90.0, 15.0) << floor;
+      EXPECT_EQ(e.ScanEntropySkips(), 1) << floor;
+    } else {
+      EXPECT_LT(yaw_deg, 15.0) << floor;
+      EXPECT_EQ(e.ScanEntropySkips(), 0) << floor;
+    }
+  }
+}
+
 // The glance says the corridor runs along x (heading = yaw), the sonar sees its walls 2 m apart
 // along 20 degrees: with axis_from_walls the remembered walls pull the axis toward 20 degrees
 // (against the glance's filter: it settles between), without it the axis stays the glance's.
@@ -1660,6 +1696,15 @@ TEST(Explorer, OptionsValidateNamesTheField) {
     o.wall_line_align_over_deg = -1.0;
     EXPECT_NE(o.Validate().find("wall_line_align_over_deg"), std::string::npos);
     o.wall_line_align_over_deg = 25.0;
+    EXPECT_TRUE(o.Validate().empty());
+  }
+  {
+    ExplorerOptions o;
+    o.scan_entropy_floor = 1.5;
+    EXPECT_NE(o.Validate().find("scan_entropy_floor"), std::string::npos);
+    o.scan_entropy_floor = -0.1;
+    EXPECT_NE(o.Validate().find("scan_entropy_floor"), std::string::npos);
+    o.scan_entropy_floor = 0.9;
     EXPECT_TRUE(o.Validate().empty());
   }
   ExplorerOptions o;

@@ -152,6 +152,7 @@ struct ExploreSummary {
   long ipt_pairs = 0, ipt_classified = 0, advice_in_path = 0, override_frames = 0;
   int obstacle_stops = 0;
   int align_line_overrides = 0;  // the walls' lines overrode the glance at a standstill (--wall-line-align-over)
+  int scan_entropy_skips = 0;    // scans whose choice of direction --scan-entropy-floor changed
   int mirror_scans = 0;  // sonar scans that showed the robot's own reflection (--mirror-watch)
   int contacts_felt = 0;  // contacts felt from the wheels (--feel-contacts)
   long near_edges = 0;    // edges ranged inside the blind range while setting off (--setoff-near-edges)

@@ -80,6 +80,17 @@ struct ExplorerOptions {
   // a start 0.65 m from the brick side wall: no column blocked, the scan set off into it).
   // 0 turns it off (`squint explore --scan-wall-lines 0`); 0.75 since session 19.
   double scan_wall_lines = 0.75;
+  // > 0: of the four directions along the scan's axis, one whose glance entropy (the mean over its
+  // bin and the two beside it) lies below this fraction of the highest of the four is not taken,
+  // whatever free travel the memory gives it. Starting 0.7 m from a door in corridor-7's side wall
+  // the door read as a corridor view (blocked-near columns forgotten as unknown), so the memory
+  // found it the only free direction (3 m), while the corridor's two directions were closed by the
+  // near wall's columns seen askance on the turn; its entropy was 0.83 of the corridor's and the
+  // robot drove into the door (start 4 of seed 23 with wall_line_align_over_deg 25). A run whose
+  // scans never lose their choice to this is the run without it step for step (scan_entropy_skips
+  // counts those that do). `squint explore --scan-entropy-floor R`; docs/explore.md, session 43.
+  // Off (0) by default.
+  double scan_entropy_floor = 0.0;
   // The corridor axis checked against the walls the memory holds (ObstacleMemory::WallAxisMod90,
   // trusted with at least wall_axis_min_pairs pairs and wall_axis_min_strength): a scan takes the
   // walls' axis where the glance's differs from it by more than 10 degrees, a probe first snaps
@@ -708,6 +719,9 @@ class Explorer {
   // How often the walls' lines overrode the glance at a standstill under wall_line_align_over_deg
   // (scan axes and alignment medians replaced); 0 means the run is the defaults' step for step.
   int AlignLineOverrides() const { return align_line_overrides_; }
+  // Scans whose choice of direction scan_entropy_floor changed (the freest-by-score direction had
+  // too little entropy); 0 means the run is the run without it step for step.
+  int ScanEntropySkips() const { return scan_entropy_skips_; }
   // True while the walls' lines are wanted at a standstill (wall_line_align or wall_line_align_over_deg).
   bool WantsAlignLines() const { return opt_.wall_line_align || opt_.wall_line_align_over_deg > 0.0; }
   // Vertical edges ranged inside the blind range while setting off (setoff_near_edges).
@@ -911,6 +925,7 @@ class Explorer {
   std::vector<double> align_line_samples_;  // the walls' lines' headings while aligning (wall_line_align)
   bool align_line_scanned_ = false;  // the lines sent this alignment to a full scan once already
   int align_line_overrides_ = 0;  // (wall_line_align_over_deg) the lines overrode the glance
+  int scan_entropy_skips_ = 0;    // (scan_entropy_floor) scans whose choice it changed
   static constexpr double kAlignLineAgreeDeg = 20.0;  // the lines' heading this far from the glance's: scan
   int align_round_ = 0;
   bool align_rotating_ = false;
