@@ -112,6 +112,9 @@ struct ExplorerVariants {
   // The drive to a mouth's centre trusts the floor seen on the way in (ExplorerOptions::shift_trusts_memory;
   // on since session 19).
   bool shift_trusts_memory = true;
+  // ...and takes the remembered points' free travel where they leave less than this (metres;
+  // ExplorerOptions::shift_points_within_m; 0: off).
+  double shift_points_within_m = 0.0;
   // Brick lines count for this long (ExplorerOptions::wall_lines_hold_s; 0: the latest frame; 1.0 since session 19).
   double wall_lines_hold_s = 1.0;
   // A side whose probe scan shows brick lines in this fraction of its bands is not open by the sonar (ExplorerOptions::probe_max_wall_lines; 0.375 since session 25).
@@ -215,6 +218,7 @@ struct ExplorerVariants {
     ro.explorer.scan_wall_lines = scan_wall_lines;
     ro.explorer.wall_view_hold_m = wall_view_hold_m;
     ro.explorer.shift_trusts_memory = shift_trusts_memory;
+    ro.explorer.shift_points_within_m = shift_points_within_m;
     ro.explorer.wall_lines_hold_s = wall_lines_hold_s;
     ro.explorer.probe_max_wall_lines = probe_max_wall_lines;
     ro.explorer.probe_wall_lines_memory = probe_wall_lines_memory;
@@ -330,6 +334,9 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 10.0));
     cmd->add_flag("--shift-trusts-memory,!--no-shift-trusts-memory", shift_trusts_memory,
                   text("The drive forward to a side branch's mouth centre ignores blocked-near sonar columns where the floor was seen from farther back, as following does after 1.6 m, when the robot came that far along the corridor: a tiled floor's joints no longer hold it short of the centre (on by default since session 19; docs/explore.md, session 19)"));
+    cmd->add_option("--shift-trusts-points", shift_points_within_m,
+                    text("On the drive forward to a side branch's mouth centre (after 1.6 m along the corridor), where the remembered points leave less free travel than this many metres, that is the guard's free travel, not the latest scans' blocked-near columns: a wall filling the view at the end held the drive for its whole time limit although the robot ranged its base on the way in, and the robot turned off the branch's centre line (0: off, the default; docs/explore.md, session 43)"))
+        ->check(CLI::Range(0.0, 5.0));
     cmd->add_option("--wall-lines-hold", wall_lines_hold_s,
                     text("A brick wall's lines seen by the visual sonar within this many seconds keep the remembered floor from overruling its blocked-near columns, not the latest frame's alone (0: the latest frame; 1.0 by default since session 19; docs/explore.md, session 19)"))
         ->capture_default_str()

@@ -88,6 +88,7 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(contact_reverse_m) || contact_reverse_m > 1.0) return "contact_reverse_m must be in [0, 1]";
   if (!NonNegative(arrival_min_travel_m)) return "arrival_min_travel_m must be >= 0";
   if (!NonNegative(shift_stall_s)) return "shift_stall_s must be >= 0";
+  if (!NonNegative(shift_points_within_m) || shift_points_within_m > 5.0) return "shift_points_within_m must be in [0, 5]";
   if (!(blind_texture_ratio >= 0.0 && blind_texture_ratio < 1.0)) return "blind_texture_ratio must be in [0, 1)";
   if (!(wall_view_hold_m >= 0.0 && wall_view_hold_m <= 10.0)) return "wall_view_hold_m must be in [0, 10]";
   if (!(wall_view_hold_deg > 0.0 && wall_view_hold_deg <= 180.0)) return "wall_view_hold_deg must be in (0, 180]";
@@ -512,6 +513,13 @@ double Explorer::Free(const Percept& p, double yaw, double max_m, bool judging) 
   if (setting_off_ && opt_.setoff_blocked_min_range_m > 0.0) min_range_m = opt_.setoff_blocked_min_range_m;
   // Setting off where it stands, the robot keeps the near edges it held out of the view too.
   const double standing_m = setting_off_ ? opt_.setoff_standing_hold_m : 0.0;
+  // shift_points_within_m: on the drive to a mouth's centre, a wall ranged on the way in.
+  if (opt_.shift_points_within_m > 0.0 && state_ == ExploreState::kTurn && shift_m_ > 0.0 &&
+      travel_in_corridor_m_ >= opt_.trust_memory_after_m && std::abs(WrapPi(yaw - axis_yaw_odom_)) < DegToRad(45.0)) {
+    const double points = memory_.PointsFreeTravel(p.odom_T_robot, yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m,
+                                                   0.0, 0.0, /*kept_edges=*/!judging);
+    if (points < opt_.shift_points_within_m) return points;
+  }
   return memory_.FreeTravel(p.odom_T_robot, yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m, use_blocked,
                             seen_free_exempts, min_range_m, standing_m, /*kept_edges=*/!judging);
 }

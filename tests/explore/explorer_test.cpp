@@ -676,6 +676,50 @@ TEST(Explorer, MouthCentringMovesToTheBranchCentreBeforeTurning) {
   }
 }
 
+// An L corner into a narrow branch: a 2 m corridor along x ends at x = 25, and a 1.6 m branch
+// leaves it to the left (north) between x = 23.4 and x = 25. The robot stops about 1.1 m short of
+// the end wall, short of the branch's centre line (x = 24.2), and the end wall then fills the view
+// within the blind range: every sonar column reads blocked near, and the drive forward to that line
+// is held for its whole time limit, so the robot turns off it. With shift_points_within_m the wall's
+// base, ranged on the way in, gives the drive its free travel and the robot turns on the line
+// within 6 s instead of 0.25 m short of it after 9 s.
+TEST(Explorer, ShiftTrustsPointsDrivesToACentreLineNearTheEndWall) {
+  for (const double within : {0.0, 1.2}) {
+    SCOPED_TRACE(within);
+    ToyPlan world;
+    world.walls = {{-1, -1, 25, -1}, {-1, 1, 23.4, 1}, {-1, -1, -1, 1}, {25, -1, 25, 12}, {23.4, 1, 23.4, 12}, {23.4, 12, 25, 12}};
+    world.pose = {1.0, 0.0, 0.0};
+    ExplorerOptions o;
+    o.shift_points_within_m = within;
+    Explorer explorer(o);
+    double x_in_branch = -1.0, x_turn = -1.0, t_turn = -1.0;
+    bool hit_wall = false;
+    for (int i = 0; i < 30 * 90 && x_in_branch < 0.0; ++i) {
+      world.Apply(explorer.Step(world.Perceive()));
+      if (explorer.Events().size() >= 3 && x_turn < 0.0 && world.pose.yaw > DegToRad(30.0)) {
+        x_turn = world.pose.x;
+        t_turn = world.frame * kDt;
+      }
+      if (world.pose.y > 2.5) x_in_branch = world.pose.x;
+      for (double a = -kPi; a < kPi; a += kPi / 18)
+        if (world.Ray(world.pose.x, world.pose.y, a) < 0.25) hit_wall = true;
+    }
+    EXPECT_FALSE(hit_wall);
+    ASSERT_GT(x_in_branch, 0.0) << "never entered the branch";
+    // The turn into the branch starts where the drive to the centre line ended.
+    ASSERT_GE(explorer.Events().size(), 3u);
+    ASSERT_GT(x_turn, 0.0);
+    const double drive_s = t_turn - explorer.Events()[2].stamp_s;
+    if (within > 0.0) {
+      EXPECT_NEAR(x_turn, 24.2, 0.06);
+      EXPECT_LT(drive_s, 6.0);
+    } else {
+      EXPECT_LT(x_turn, 24.05);  // held short of the line...
+      EXPECT_GT(drive_s, 8.0);   // ...for the drive's whole time limit
+    }
+  }
+}
+
 // Mouth centring's gap on the remembered points of corridor-8's cross corridor as the robot stood
 // at start 3 of seed 108 (session 37), 1 m short of the north branch's centre line: the corridor's
 // own wall up to its wall run's end at -0.47 m, one stray point at +0.03 m, and the branch's far
@@ -1729,6 +1773,11 @@ TEST(Explorer, OptionsValidateNamesTheField) {
   o = {};
   o.shift_stall_s = -0.1;
   EXPECT_NE(o.Validate().find("shift_stall_s"), std::string::npos);
+  o = {};
+  o.shift_points_within_m = -1.0;
+  EXPECT_NE(o.Validate().find("shift_points_within_m"), std::string::npos);
+  o.shift_points_within_m = 6.0;
+  EXPECT_NE(o.Validate().find("shift_points_within_m"), std::string::npos);
   o = {};
   o.known_end_disagree_m = -0.5;
   EXPECT_NE(o.Validate().find("known_end_disagree_m"), std::string::npos);

@@ -610,6 +610,17 @@ struct ExplorerOptions {
   // whole time limit, so the robot turned into the branch a metre short of its centre and met the
   // corner (corridor-8, start 4 of seed 5). On since session 19 (`squint explore --no-shift-trusts-memory`).
   bool shift_trusts_memory = true;
+  // > 0 (metres): on that drive (with the same conditions: after trust_memory_after_m in the
+  // corridor, within 45 degrees of the axis), where the remembered points leave less free travel
+  // than this, that free travel is the guard's, not the latest scans': a wall filling the view
+  // within the blind range blocks the drive whatever the floor seen before said, but the robot
+  // ranged that wall's base on its way in. At corridor-1's T (1.6 m wide) the robot stopped 1.3 m
+  // from the cross corridor's far wall, the drive of 0.46 m to its centre line was held for its whole
+  // time limit (the points left 0.85 m), and the robot turned 0.5 m off the centre line, steered
+  // clear of the mouth's corner, stalled, took the cross corridor for a dead end and met that
+  // corner (start 9 of seed 94). `squint explore --shift-trusts-points M`; docs/explore.md,
+  // session 43. Off (0) by default.
+  double shift_points_within_m = 0.0;
   // trust_memory_max_wall_lines takes the largest wall-line fraction of the sonar frames over the
   // last wall_lines_hold_s seconds, not the latest frame's alone: approaching a brick wall's corner
   // the lines come and go from frame to frame as the brick leaves the view (corridor-9, start 9 of
