@@ -1061,4 +1061,31 @@ TEST(ExploreCli, WallLinesOverrideAGlanceFarOffTheAxisAtTheSetOff) {
   std::filesystem::remove_all(dir);
 }
 
+// Session 43's two switches on the seeded starts they were made for. corridor-7's start 4 of seed
+// 23 with --wall-line-align-over 25: the look around sets off toward a door 0.7 m away (its
+// entropy 0.83 of the corridor's) and meets it at 16.3 s; with --scan-entropy-floor 0.9 it sets off
+// along the corridor. corridor-1's start 9 of seed 94: the drive to the cross corridor's centre
+// line is held by a wall filling the view, the robot turns 0.5 m off that line and meets the
+// mouth's corner at 156.4 s; with --shift-trusts-points 1.2 it drives there and meets nothing.
+TEST(ExploreCli, ScanEntropyFloorAndShiftTrustsPointsClearTheirStarts) {
+  const auto dir = TempDir("session43-switches");
+  struct Case {
+    std::string start, flag;
+  };
+  for (const Case& k : {Case{"--world corridor-7 --seed 23 --eval-start 4 --minutes 0.5 --wall-line-align-over 25", "--scan-entropy-floor 0.9"},
+                        Case{"--world corridor-1 --seed 94 --eval-start 9 --minutes 2.7", "--shift-trusts-points 1.2"}}) {
+    SCOPED_TRACE(k.start);
+    const nlohmann::json off = ExploreSummary(dir / "off", k.start);
+    EXPECT_GT(off["collisions"].get<long>(), 0);
+    EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
+    EXPECT_EQ(off["scan_entropy_skips"].get<long>(), 0);
+    const nlohmann::json on = ExploreSummary(dir / "on", k.start + " " + k.flag);
+    EXPECT_EQ(on["collisions"].get<long>(), 0);
+    if (k.flag.find("entropy") != std::string::npos) {
+      EXPECT_GE(on["scan_entropy_skips"].get<long>(), 1);
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
