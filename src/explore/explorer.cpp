@@ -627,6 +627,7 @@ bool Explorer::Rotate(const Percept& p, Rotation& r, Command& cmd) const {
 
 Command Explorer::ScanStep(const Percept& p) {
   const int bins = opt_.scan_bins;
+  constexpr double kScanReachM = 3.0;  // the free travel the scan's choice looks for (metres)
   if (scan_rotating_) {
     const double rel = WrapPi(p.odom_T_robot.yaw - scan_start_yaw_);
     const double u = (rel < 0 ? rel + 2 * kPi : rel) / (2 * kPi);
@@ -678,7 +679,7 @@ Command Explorer::ScanStep(const Percept& p) {
         }
         if (views > 0 && 2 * walls > views) return 0.0;
       }
-      return Free(p, yaw, 3.0);
+      return Free(p, yaw, kScanReachM);
     };
     // The Manhattan axis modulo 90°: the mode of the candidates (2° bins, ±2 bins smoothing).
     auto mode_mod90 = [](const std::vector<double>& candidates) {
@@ -724,7 +725,9 @@ Command Explorer::ScanStep(const Percept& p) {
     double best = -1.0;
     double best_yaw = scan_start_yaw_;
     if (have_axis) {
-      // scan_entropy_floor: a direction with too little entropy for a corridor view is not taken.
+      // scan_entropy_floor: a direction the memory finds free to the scan's full reach (nothing
+      // ranged there: a wall inside the blind range may be forgotten) with too little entropy for
+      // a corridor view is not taken.
       double top_entropy = 0.0;
       for (int k = 0; k < 4; ++k) top_entropy = std::max(top_entropy, entropy_at(WrapPi(axis_mod + k * kPi / 2)));
       double best_any = -1.0;  // the best score without the floor, to count the scans it changed
@@ -733,7 +736,8 @@ Command Explorer::ScanStep(const Percept& p) {
         const double yaw = WrapPi(axis_mod + k * kPi / 2);
         // With the sonar the free travel decides (metres dominate), entropy breaks ties.
         const double h = entropy_at(yaw) + (sonar_seen_ ? 10.0 * scan_free(yaw) : 0.0);
-        const bool skipped = opt_.scan_entropy_floor > 0.0 && entropy_at(yaw) < opt_.scan_entropy_floor * top_entropy;
+        const bool skipped = opt_.scan_entropy_floor > 0.0 && entropy_at(yaw) < opt_.scan_entropy_floor * top_entropy &&
+                             scan_free(yaw) >= kScanReachM;
         if (h > best_any) {
           best_any = h;
           best_any_skipped = skipped;

@@ -80,13 +80,17 @@ struct ExplorerOptions {
   // a start 0.65 m from the brick side wall: no column blocked, the scan set off into it).
   // 0 turns it off (`squint explore --scan-wall-lines 0`); 0.75 since session 19.
   double scan_wall_lines = 0.75;
-  // > 0: of the four directions along the scan's axis, one whose glance entropy (the mean over its
-  // bin and the two beside it) lies below this fraction of the highest of the four is not taken,
-  // whatever free travel the memory gives it. Starting 0.7 m from a door in corridor-7's side wall
-  // the door read as a corridor view (blocked-near columns forgotten as unknown), so the memory
-  // found it the only free direction (3 m), while the corridor's two directions were closed by the
-  // near wall's columns seen askance on the turn; its entropy was 0.83 of the corridor's and the
-  // robot drove into the door (start 4 of seed 23 with wall_line_align_over_deg 25). A run whose
+  // > 0: of the four directions along the scan's axis, one that the memory finds free to the
+  // scan's full reach (3 m: nothing ranged there) and whose glance entropy (the mean over its bin
+  // and the two beside it) lies below this fraction of the highest of the four is not taken.
+  // Starting 0.7 m from a door in corridor-7's side wall the door read as a corridor view
+  // (blocked-near columns forgotten as unknown), so the memory found it the only free direction,
+  // while the corridor's two directions were closed by the near wall's columns seen askance on the
+  // turn; its entropy was 0.83 of the corridor's and the robot drove into the door (start 4 of seed
+  // 23 with wall_line_align_over_deg 25). Directions with something ranged in them are left to the
+  // free travel: skipping those too (tried in session 43) kept corridor-1's start 4 of seed 29
+  // from setting off along its narrow cross corridor toward a dead end (entropy 0.886 of the
+  // other way), and it met the wall. A run whose
   // scans never lose their choice to this is the run without it step for step (scan_entropy_skips
   // counts those that do). `squint explore --scan-entropy-floor R`; docs/explore.md, session 43.
   // Off (0) by default.
