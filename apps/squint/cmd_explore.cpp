@@ -80,7 +80,7 @@ struct ExplorerVariants {
   bool wall_line_align = false;
   // ...only where they disagree with the glance by more than this (degrees; ExplorerOptions::wall_line_align_over_deg; 0: off).
   double wall_line_align_over_deg = 0.0;
-  // A scan takes no direction whose entropy is below this fraction of the best of the four (ExplorerOptions::scan_entropy_floor; 0: off).
+  // A scan takes no direction free to its reach whose entropy is below this fraction of the best of the four (ExplorerOptions::scan_entropy_floor; 0: off).
   double scan_entropy_floor = 0.0;
   // An opening beside a junction whose side was judged a wall is looked at (ExplorerOptions::opening_beside_wall_node; off).
   bool opening_beside_wall_node = false;

@@ -487,6 +487,10 @@ double Explorer::WallRunEndAlong(int side) const {
   return sides_[side].wall_last_m - opt_.side_window_m - travel_in_corridor_m_;
 }
 
+bool Explorer::ShiftingAfterTravel() const {
+  return state_ == ExploreState::kTurn && shift_m_ > 0.0 && travel_in_corridor_m_ >= opt_.trust_memory_after_m;
+}
+
 bool Explorer::UseBlocked(double yaw) const {
   // After driving down the corridor for more than the blind range, what lies in the blind zone
   // ahead was seen from farther back (and is remembered): the latest scan's blocked-near columns
@@ -494,8 +498,7 @@ bool Explorer::UseBlocked(double yaw) const {
   // step).
   // Likewise while crossing the floor edge of an opening just turned into (floor_edge_band_).
   // And on the drive forward to a mouth's centre, when the robot came along (shift_trusts_memory).
-  const bool shifting = opt_.shift_trusts_memory && state_ == ExploreState::kTurn && shift_m_ > 0.0 &&
-                        travel_in_corridor_m_ >= opt_.trust_memory_after_m;
+  const bool shifting = opt_.shift_trusts_memory && ShiftingAfterTravel();
   return !((shifting || (state_ == ExploreState::kFollow &&
                          (travel_in_corridor_m_ >= opt_.trust_memory_after_m || floor_edge_band_.has_value()))) &&
            std::abs(WrapPi(yaw - axis_yaw_odom_)) < DegToRad(45.0));
@@ -514,8 +517,7 @@ double Explorer::Free(const Percept& p, double yaw, double max_m, bool judging) 
   // Setting off where it stands, the robot keeps the near edges it held out of the view too.
   const double standing_m = setting_off_ ? opt_.setoff_standing_hold_m : 0.0;
   // shift_points_within_m: on the drive to a mouth's centre, a wall ranged on the way in.
-  if (opt_.shift_points_within_m > 0.0 && state_ == ExploreState::kTurn && shift_m_ > 0.0 &&
-      travel_in_corridor_m_ >= opt_.trust_memory_after_m && std::abs(WrapPi(yaw - axis_yaw_odom_)) < DegToRad(45.0)) {
+  if (opt_.shift_points_within_m > 0.0 && ShiftingAfterTravel() && std::abs(WrapPi(yaw - axis_yaw_odom_)) < DegToRad(45.0)) {
     const double points = memory_.PointsFreeTravel(p.odom_T_robot, yaw, opt_.robot_radius_m + opt_.safety_margin_m, max_m,
                                                    0.0, 0.0, /*kept_edges=*/!judging);
     if (points < opt_.shift_points_within_m) return points;
@@ -728,16 +730,21 @@ Command Explorer::ScanStep(const Percept& p) {
       // scan_entropy_floor: a direction the memory finds free to the scan's full reach (nothing
       // ranged there: a wall inside the blind range may be forgotten) with too little entropy for
       // a corridor view is not taken.
+      std::array<double, 4> entropy{};
       double top_entropy = 0.0;
-      for (int k = 0; k < 4; ++k) top_entropy = std::max(top_entropy, entropy_at(WrapPi(axis_mod + k * kPi / 2)));
+      for (int k = 0; k < 4; ++k) {
+        entropy[static_cast<std::size_t>(k)] = entropy_at(WrapPi(axis_mod + k * kPi / 2));
+        top_entropy = std::max(top_entropy, entropy[static_cast<std::size_t>(k)]);
+      }
       double best_any = -1.0;  // the best score without the floor, to count the scans it changed
       bool best_any_skipped = false;
       for (int k = 0; k < 4; ++k) {
         const double yaw = WrapPi(axis_mod + k * kPi / 2);
+        const double e = entropy[static_cast<std::size_t>(k)];
+        const double free = scan_free(yaw);
         // With the sonar the free travel decides (metres dominate), entropy breaks ties.
-        const double h = entropy_at(yaw) + (sonar_seen_ ? 10.0 * scan_free(yaw) : 0.0);
-        const bool skipped = opt_.scan_entropy_floor > 0.0 && entropy_at(yaw) < opt_.scan_entropy_floor * top_entropy &&
-                             scan_free(yaw) >= kScanReachM;
+        const double h = e + (sonar_seen_ ? 10.0 * free : 0.0);
+        const bool skipped = opt_.scan_entropy_floor > 0.0 && e < opt_.scan_entropy_floor * top_entropy && free >= kScanReachM;
         if (h > best_any) {
           best_any = h;
           best_any_skipped = skipped;

@@ -90,10 +90,9 @@ struct ExplorerOptions {
   // 23 with wall_line_align_over_deg 25). Directions with something ranged in them are left to the
   // free travel: skipping those too (tried in session 43) kept corridor-1's start 4 of seed 29
   // from setting off along its narrow cross corridor toward a dead end (entropy 0.886 of the
-  // other way), and it met the wall. A run whose
-  // scans never lose their choice to this is the run without it step for step (scan_entropy_skips
-  // counts those that do). `squint explore --scan-entropy-floor R`; docs/explore.md, session 43.
-  // Off (0) by default.
+  // other way), and it met the wall. A run whose scans never lose their choice to this is the run
+  // without it step for step (scan_entropy_skips counts those that do). `squint explore
+  // --scan-entropy-floor R`; docs/explore.md, session 43. Off (0) by default.
   double scan_entropy_floor = 0.0;
   // The corridor axis checked against the walls the memory holds (ObstacleMemory::WallAxisMod90,
   // trusted with at least wall_axis_min_pairs pairs and wall_axis_min_strength): a scan takes the
@@ -734,8 +733,8 @@ class Explorer {
   // How often the walls' lines overrode the glance at a standstill under wall_line_align_over_deg
   // (scan axes and alignment medians replaced); 0 means the run is the defaults' step for step.
   int AlignLineOverrides() const { return align_line_overrides_; }
-  // Scans whose choice of direction scan_entropy_floor changed (the freest-by-score direction had
-  // too little entropy); 0 means the run is the run without it step for step.
+  // Scans whose choice of direction scan_entropy_floor changed (the best-scoring direction was
+  // skipped); 0 means the run is the run without it step for step.
   int ScanEntropySkips() const { return scan_entropy_skips_; }
   // True while the walls' lines are wanted at a standstill (wall_line_align or wall_line_align_over_deg).
   bool WantsAlignLines() const { return opt_.wall_line_align || opt_.wall_line_align_over_deg > 0.0; }
@@ -796,6 +795,9 @@ class Explorer {
   // Whether the latest scan's blocked-near columns count in full along odometry yaw `yaw`
   // (false: the narrow sector; see trust_memory_after_m).
   bool UseBlocked(double yaw) const;
+  // On the drive forward to a mouth's centre, after trust_memory_after_m in the corridor (the
+  // condition shift_trusts_memory and shift_points_within_m share).
+  bool ShiftingAfterTravel() const;
   // The disc's free travel along odometry yaw `yaw` (ObstacleMemory::FreeTravel). `judging`: for
   // a judgement of walls and openings (an end, a side's probe, a branch's depth), not for driving:
   // the edges' soft points kept past blind_points_keep_s are left out
