@@ -10,27 +10,13 @@
 # Writes OUT_DIR/seed-S/{summary.json,map.png,trace.csv,events.csv}, OUT_DIR/seed-S.log and
 # OUT_DIR/summary.txt. Not part of CI: about a minute of CPU per seed at 45 minutes.
 set -euo pipefail
-if [ $# -lt 4 ]; then
-  echo "usage: $0 SQUINT OUT_DIR FIRST_SEED LAST_SEED [extra explore options...]" >&2
-  exit 2
-fi
-squint=$1 out=$2 first=$3 last=$4
-shift 4
-[ -x "$squint" ] || { echo "$0: $squint is not an executable" >&2; exit 2; }
-[[ "$first" =~ ^[0-9]+$ && "$last" =~ ^[0-9]+$ && "$first" -le "$last" ]] ||
-  { echo "$0: seeds must be whole numbers, FIRST <= LAST (got $first, $last)" >&2; exit 2; }
+. "$(dirname "$0")/seed_runs.sh"
+seed_args "SQUINT OUT_DIR FIRST_SEED LAST_SEED [extra explore options...]" "$@"
 command -v python3 > /dev/null || { echo "$0: python3 is needed to read summary.json" >&2; exit 2; }
-mkdir -p "$out"
-pids=()
-for s in $(seq "$first" "$last"); do
-  "$squint" explore --seed "$s" --out "$out/seed-$s" "$@" > "$out/seed-$s.log" 2>&1 &
-  pids+=($!)
-  if [ ${#pids[@]} -ge 2 ]; then
-    wait "${pids[0]}" || { echo "$0: a run failed, see $out/*.log" >&2; exit 1; }
-    pids=("${pids[@]:1}")
-  fi
-done
-for p in "${pids[@]}"; do wait "$p" || { echo "$0: a run failed, see $out/*.log" >&2; exit 1; }; done
+one_seed() {
+  "$squint" explore --seed "$1" --out "$out/seed-$1" "${extra[@]}" > "$out/seed-$1.log" 2>&1
+}
+seed_runs one_seed
 python3 - "$out" "$first" "$last" << 'EOF' | tee "$out/summary.txt"
 import json, sys
 out, first, last = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])

@@ -10,26 +10,12 @@
 # session 9); `squint eval compare-explore BASE_DIR VARIANT_DIR` compares two such folders run by
 # run. Not part of CI: about 2.5 CPU minutes per seed.
 set -euo pipefail
-if [ $# -lt 4 ]; then
-  echo "usage: $0 SQUINT OUT_DIR FIRST_SEED LAST_SEED [extra eval options...]" >&2
-  exit 2
-fi
-squint=$1 out=$2 first=$3 last=$4
-shift 4
-[ -x "$squint" ] || { echo "$0: $squint is not an executable" >&2; exit 2; }
-[[ "$first" =~ ^[0-9]+$ && "$last" =~ ^[0-9]+$ && "$first" -le "$last" ]] ||
-  { echo "$0: seeds must be whole numbers, FIRST <= LAST (got $first, $last)" >&2; exit 2; }
-mkdir -p "$out"
-pids=()
-for s in $(seq "$first" "$last"); do
-  "$squint" eval explore --starts 10 --minutes 3 --seed "$s" --out "$out/seed-$s" "$@" > "$out/seed-$s.log" 2>&1 &
-  pids+=($!)
-  if [ ${#pids[@]} -ge 2 ]; then
-    wait "${pids[0]}" || { echo "$0: seed run failed, see $out/*.log" >&2; exit 1; }
-    pids=("${pids[@]:1}")
-  fi
-done
-for p in "${pids[@]}"; do wait "$p" || { echo "$0: seed run failed, see $out/*.log" >&2; exit 1; }; done
+. "$(dirname "$0")/seed_runs.sh"
+seed_args "SQUINT OUT_DIR FIRST_SEED LAST_SEED [extra eval options...]" "$@"
+one_seed() {
+  "$squint" eval explore --starts 10 --minutes 3 --seed "$1" --out "$out/seed-$1" "${extra[@]}" > "$out/seed-$1.log" 2>&1
+}
+seed_runs one_seed
 total=0 runs=0
 {
   for s in $(seq "$first" "$last"); do
