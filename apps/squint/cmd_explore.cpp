@@ -78,10 +78,10 @@ struct ExplorerVariants {
   bool mouth_drop_strays = true;
   // The walls' lines also set the axis in the start-up scan and alignment (ExplorerOptions::wall_line_align; off).
   bool wall_line_align = false;
-  // ...only where they disagree with the glance by more than this (degrees; ExplorerOptions::wall_line_align_over_deg; 0: off).
-  double wall_line_align_over_deg = 0.0;
-  // A scan takes no direction free to its reach whose entropy is below this fraction of the best of the four (ExplorerOptions::scan_entropy_floor; 0: off).
-  double scan_entropy_floor = 0.0;
+  // ...only where they disagree with the glance by more than this (degrees; ExplorerOptions::wall_line_align_over_deg; 0: off; 25 since session 45).
+  double wall_line_align_over_deg = 25.0;
+  // A scan takes no direction free to its reach whose entropy is below this fraction of the best of the four (ExplorerOptions::scan_entropy_floor; 0: off; 0.9 since session 45).
+  double scan_entropy_floor = 0.9;
   // An opening beside a junction whose side was judged a wall is looked at (ExplorerOptions::opening_beside_wall_node; off).
   bool opening_beside_wall_node = false;
   // The branch a stop's node was entered by is explored only when the robot came along it
@@ -113,8 +113,8 @@ struct ExplorerVariants {
   // on since session 19).
   bool shift_trusts_memory = true;
   // ...and takes the remembered points' free travel where they leave less than this (metres;
-  // ExplorerOptions::shift_points_within_m; 0: off).
-  double shift_points_within_m = 0.0;
+  // ExplorerOptions::shift_points_within_m; 0: off; 1.2 since session 45).
+  double shift_points_within_m = 1.2;
   // Brick lines count for this long (ExplorerOptions::wall_lines_hold_s; 0: the latest frame; 1.0 since session 19).
   double wall_lines_hold_s = 1.0;
   // A side whose probe scan shows brick lines in this fraction of its bands is not open by the sonar (ExplorerOptions::probe_max_wall_lines; 0.375 since session 25).
@@ -297,10 +297,12 @@ struct ExplorerVariants {
     cmd->add_flag("--wall-line-align,!--no-wall-line-align", wall_line_align,
                   text("With --wall-lines: their frames are also taken while scanning and aligning at a standstill, and their heading modulo 90 degrees sets the axis there (off by default; docs/explore.md, session 17)"));
     cmd->add_option("--wall-line-align-over", wall_line_align_over_deg,
-                    text("With --wall-lines and without --wall-line-align: the walls' lines are read while scanning and aligning at a standstill too, and set the axis there only where they disagree with the glance by more than this many degrees; where they agree the run is the defaults' step for step (summary.json counts the overrides as align_line_overrides; 0: off, the default; docs/explore.md, session 42)"))
+                    text("With --wall-lines and without --wall-line-align: the walls' lines are read while scanning and aligning at a standstill too, and set the axis there only where they disagree with the glance by more than this many degrees; where they agree the run is the run without it (0) step for step (summary.json counts the overrides as align_line_overrides; 0: off; 25 by default since session 45; docs/explore.md, sessions 42 and 45)"))
+        ->capture_default_str()
         ->check(CLI::Range(0.0, 45.0));
     cmd->add_option("--scan-entropy-floor", scan_entropy_floor,
-                    text("A scan in place does not set off along a direction of its axis that the memory finds free to the scan's full reach (nothing ranged there) when its glance entropy is below this fraction of the highest of the four: a door up close read as a corridor view and, its near columns forgotten, as the only free direction; a run whose scans never lose their choice to this is the run without it step for step (summary.json counts the scans it changed as scan_entropy_skips; 0: off, the default; docs/explore.md, session 43)"))
+                    text("A scan in place does not set off along a direction of its axis that the memory finds free to the scan's full reach (nothing ranged there) when its glance entropy is below this fraction of the highest of the four: a door up close read as a corridor view and, its near columns forgotten, as the only free direction; a run whose scans never lose their choice to this is the run without it step for step (summary.json counts the scans it changed as scan_entropy_skips; 0: off; 0.9 by default since session 45; docs/explore.md, sessions 43 and 45)"))
+        ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("--opening-beside-wall-node,!--no-opening-beside-wall-node", opening_beside_wall_node,
                   text("An opening found more than 0.8 m from a known junction whose side there was judged a wall is looked at as a new opening instead of being passed (off by default; docs/explore.md, session 17)"));
@@ -335,7 +337,8 @@ struct ExplorerVariants {
     cmd->add_flag("--shift-trusts-memory,!--no-shift-trusts-memory", shift_trusts_memory,
                   text("The drive forward to a side branch's mouth centre ignores blocked-near sonar columns where the floor was seen from farther back, as following does after 1.6 m, when the robot came that far along the corridor: a tiled floor's joints no longer hold it short of the centre (on by default since session 19; docs/explore.md, session 19)"));
     cmd->add_option("--shift-trusts-points", shift_points_within_m,
-                    text("On the drive forward to a side branch's mouth centre (after 1.6 m along the corridor), where the remembered points leave less free travel than this many metres, that is the guard's free travel, not the latest scans' blocked-near columns: a wall filling the view at the end held the drive for its whole time limit although the robot ranged its base on the way in, and the robot turned off the branch's centre line (0: off, the default; docs/explore.md, session 43)"))
+                    text("On the drive forward to a side branch's mouth centre (after 1.6 m along the corridor), where the remembered points leave less free travel than this many metres, that is the guard's free travel, not the latest scans' blocked-near columns: a wall filling the view at the end held the drive for its whole time limit although the robot ranged its base on the way in, and the robot turned off the branch's centre line (0: off; 1.2 by default since session 45; docs/explore.md, sessions 43 and 45)"))
+        ->capture_default_str()
         ->check(CLI::Range(0.0, 5.0));
     cmd->add_option("--wall-lines-hold", wall_lines_hold_s,
                     text("A brick wall's lines seen by the visual sonar within this many seconds keep the remembered floor from overruling its blocked-near columns, not the latest frame's alone (0: the latest frame; 1.0 by default since session 19; docs/explore.md, session 19)"))

@@ -261,7 +261,7 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
     // While following; while probing too where the explorer takes a side the lines show free as open.
     // While scanning and aligning too where the explorer takes its axis from them at a standstill.
     // (explorer.wall_line_align_over_deg alone: there the frame gives the lines' heading only, so a
-    // run whose lines never override the glance is the defaults' step for step.)
+    // run whose lines never override the glance is the run without it step for step.)
     const bool standstill = explorer.State() == explore::ExploreState::kScan || explorer.State() == explore::ExploreState::kAlign;
     const bool heading_only = standstill && !options.explorer.wall_line_align;
     const bool wall_lines_now = explorer.State() == explore::ExploreState::kFollow ||

@@ -809,6 +809,7 @@ TEST(Explorer, WallLinesSetTheAxisAtTheStartWhereTheGlanceIsOff) {
     ExplorerOptions o;
     o.wall_line_axis_gain = 0.2;
     o.wall_line_align = align;
+    o.wall_line_align_over_deg = 0.0;  // wall_line_align alone (the override at 25° sets off along the axis too)
     Explorer explorer(o);
     std::optional<double> setoff_deg;
     bool scanned = false;
@@ -830,12 +831,12 @@ TEST(Explorer, WallLinesSetTheAxisAtTheStartWhereTheGlanceIsOff) {
 
 // wall_line_align_over_deg (25): the same start with the glance 40° off sets off along the
 // corridor as with wall_line_align (the lines disagree by more than 25°); with the glance 8° off the
-// lines agree within 25°, so they never override it, and the run is the defaults' command for
+// lines agree within 25°, so they never override it, and the run is the run without it command for
 // command (the lines read at the standstill change nothing), setting off as far off as they do.
 TEST(Explorer, WallLinesOverrideTheGlanceAtAStandstillOnlyWhereTheyDisagree) {
   for (const double bias : {40.0, 8.0}) {
     SCOPED_TRACE(bias);
-    ToyPlan a, b;  // a: the defaults; b: wall_line_align_over_deg
+    ToyPlan a, b;  // a: without wall_line_align_over_deg; b: with it
     for (ToyPlan* w : {&a, &b}) {
       w->walls = {{-1, -1, 30, -1}, {-1, 1, 30, 1}, {-1, -1, -1, 1}, {30, -1, 30, 1}};
       w->pose = {8.0, 0.0, DegToRad(-bias)};
@@ -844,6 +845,7 @@ TEST(Explorer, WallLinesOverrideTheGlanceAtAStandstillOnlyWhereTheyDisagree) {
     }
     ExplorerOptions oa;
     oa.wall_line_axis_gain = 0.2;
+    oa.wall_line_align_over_deg = 0.0;  // off (the default is 25 since session 45)
     ExplorerOptions ob = oa;
     ob.wall_line_align_over_deg = 25.0;
     Explorer ea(oa), eb(ob);
@@ -1417,6 +1419,7 @@ TEST(Explorer, ScanDoesNotSetOffIntoAWallFillingTheView) {
     ExplorerOptions o;
     o.detect_branches = false;
     o.scan_skips_wall_views = rule;
+    o.scan_entropy_floor = 0.0;  // the rule alone (the floor keeps this low-entropy view out too)
     Explorer e(o);
     ScriptedSonar w;
     w.pose.yaw = -kPi / 2;

@@ -92,8 +92,8 @@ struct ExplorerOptions {
   // from setting off along its narrow cross corridor toward a dead end (entropy 0.886 of the
   // other way), and it met the wall. A run whose scans never lose their choice to this is the run
   // without it step for step (scan_entropy_skips counts those that do). `squint explore
-  // --scan-entropy-floor R`; docs/explore.md, session 43. Off (0) by default.
-  double scan_entropy_floor = 0.0;
+  // --scan-entropy-floor R`; docs/explore.md, sessions 43 and 45. 0.9 since session 45 (0: off).
+  double scan_entropy_floor = 0.9;
   // The corridor axis checked against the walls the memory holds (ObstacleMemory::WallAxisMod90,
   // trusted with at least wall_axis_min_pairs pairs and wall_axis_min_strength): a scan takes the
   // walls' axis where the glance's differs from it by more than 10 degrees, a probe first snaps
@@ -291,14 +291,14 @@ struct ExplorerOptions {
   // too, but set the axis there only where they disagree with the glance by more than this: in the
   // start-up scan where their mode lies this far from the axis the glance and the remembered walls
   // give (or those give none), in the alignment where the lines' heading nearest the glance's
-  // median lies this far from it. Where they agree the run is the defaults' step for step. With 25
+  // median lies this far from it. Where they agree the run is the run without it step for step. With 25
   // the set-offs 28-44 degrees off the axis that met things (corridor-8 61/2, the obstacle course
   // 100/5 and 43/8, `default` 74/4) are corrected in replays, and the set-offs that wall_line_align
   // moved by a few degrees toward a chair or a floor-grey wall are left alone; but on seeds 1-48 of
   // the seeded starts it cleared one failure and added two (runs whose route an override changed),
   // and at 45 minutes it missed seed 14's middle corridor. `squint explore --wall-line-align-over D`;
-  // docs/explore.md, session 42. Off (0) by default.
-  double wall_line_align_over_deg = 0.0;
+  // docs/explore.md, sessions 42 and 45. 25 since session 45 (0: off).
+  double wall_line_align_over_deg = 25.0;
   double rescan_yaw_deg = 12.0;       // no forward motion until a scan was taken at the heading
   // Following: after this travel in the corridor the latest scan's blocked-near columns block only
   // the narrow sector at the blind range, and those along which the floor in the blind zone was
@@ -622,8 +622,8 @@ struct ExplorerOptions {
   // time limit (the points left 0.85 m), and the robot turned 0.5 m off the centre line, steered
   // clear of the mouth's corner, stalled, took the cross corridor for a dead end and met that
   // corner (start 9 of seed 94). `squint explore --shift-trusts-points M`; docs/explore.md,
-  // session 43. Off (0) by default.
-  double shift_points_within_m = 0.0;
+  // sessions 43 and 45. 1.2 since session 45 (0: off).
+  double shift_points_within_m = 1.2;
   // trust_memory_max_wall_lines takes the largest wall-line fraction of the sonar frames over the
   // last wall_lines_hold_s seconds, not the latest frame's alone: approaching a brick wall's corner
   // the lines come and go from frame to frame as the brick leaves the view (corridor-9, start 9 of
@@ -731,7 +731,7 @@ class Explorer {
   // Sonar scans that showed the robot's own reflection (mirror_watch).
   int MirrorsFound() const { return mirror_.Found(); }
   // How often the walls' lines overrode the glance at a standstill under wall_line_align_over_deg
-  // (scan axes and alignment medians replaced); 0 means the run is the defaults' step for step.
+  // (scan axes and alignment medians replaced); 0 means the run is the run without it step for step.
   int AlignLineOverrides() const { return align_line_overrides_; }
   // Scans whose choice of direction scan_entropy_floor changed (the best-scoring direction was
   // skipped); 0 means the run is the run without it step for step.
