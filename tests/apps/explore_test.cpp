@@ -1068,12 +1068,11 @@ TEST(ExploreCli, WallLinesOverrideAGlanceFarOffTheAxisAtTheSetOff) {
   const std::string d74 = "--world default --seed 74 --eval-start 4 --minutes 0.67";
   for (const std::string& start : {c8, d74}) {
     SCOPED_TRACE(start);
-    const std::string others_off = " --scan-entropy-floor 0 --shift-trusts-points 0";
-    const nlohmann::json off = ExploreSummary(dir / "off", start + others_off + " --wall-line-align-over 0");
+    const nlohmann::json off = ExploreSummary(dir / "off", start + kBeforeSession45);
     EXPECT_GT(off["collisions"].get<long>(), 0);
     EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
     EXPECT_EQ(off["align_line_overrides"].get<long>(), 0);
-    const nlohmann::json on = ExploreSummary(dir / "on", start + others_off);
+    const nlohmann::json on = ExploreSummary(dir / "on", start + RulesOffBut(Session45Rules(), "--wall-line-align-over"));
     EXPECT_EQ(on["collisions"].get<long>(), 0);
     EXPECT_GE(on["align_line_overrides"].get<long>(), 1);
   }
@@ -1095,7 +1094,7 @@ TEST(ExploreCli, ScanEntropyFloorAndShiftTrustsPointsClearTheirStarts) {
   };
   for (const Case& k : {Case{"--world corridor-7 --seed 23 --eval-start 4 --minutes 0.5 --shift-trusts-points 0", "--scan-entropy-floor 0",
                              "--scan-entropy-floor 0.9"},
-                        Case{"--world corridor-1 --seed 94 --eval-start 9 --minutes 2.7 --wall-line-align-over 0 --scan-entropy-floor 0",
+                        Case{"--world corridor-1 --seed 94 --eval-start 9 --minutes 2.7" + RulesOffBut(Session45Rules(), "--shift-trusts-points"),
                              "--shift-trusts-points 0", "--shift-trusts-points 1.2"}}) {
     SCOPED_TRACE(k.start);
     const nlohmann::json off = ExploreSummary(dir / "off", k.start + " " + k.off);
