@@ -72,6 +72,8 @@ struct ExplorerVariants {
   bool rearm_after_gap = true;
   // The walls' lines' frame binned from one twice its size (ExploreRunOptions::wall_lines_binned; on since session 17).
   bool wall_lines_binned = true;
+  // A one-row best line is left out and the lines sought again (WallLineOptions::drop_one_row_line; off).
+  bool wall_lines_drop_row = false;
   // Mouth centring bounded by the corridor's own wall line as it stands now (ExplorerOptions::mouth_wall_line; on since session 17).
   bool mouth_wall_line = true;
   // Mouth centring leaves out stray points that would split a mouth (ExplorerOptions::mouth_drop_strays).
@@ -82,6 +84,8 @@ struct ExplorerVariants {
   double wall_line_align_over_deg = 25.0;
   // A scan takes no direction free to its reach whose entropy is below this fraction of the best of the four (ExplorerOptions::scan_entropy_floor; 0: off; 0.9 since session 45).
   double scan_entropy_floor = 0.9;
+  // Keep off a wall the lines show nearer than this (metres; ExplorerOptions::wall_keep_m; 0: off).
+  double wall_keep_m = 0.0;
   // An opening beside a junction whose side was judged a wall is looked at (ExplorerOptions::opening_beside_wall_node; off).
   bool opening_beside_wall_node = false;
   // The branch a stop's node was entered by is explored only when the robot came along it
@@ -202,11 +206,13 @@ struct ExplorerVariants {
     ro.explorer.wall_line_free_m = wall_line_free_m;
     ro.explorer.rearm_after_gap = rearm_after_gap;
     ro.wall_lines_binned = wall_lines_binned;
+    ro.wall_lines.drop_one_row_line = wall_lines_drop_row;
     ro.explorer.mouth_wall_line = mouth_wall_line;
     ro.explorer.mouth_drop_strays = mouth_drop_strays;
     ro.explorer.wall_line_align = wall_line_align;
     ro.explorer.wall_line_align_over_deg = wall_line_align_over_deg;
     ro.explorer.scan_entropy_floor = scan_entropy_floor;
+    ro.explorer.wall_keep_m = wall_keep_m;
     ro.explorer.opening_beside_wall_node = opening_beside_wall_node;
     ro.explorer.arrival_min_travel_m = arrival_min_travel_m;
     ro.explorer.shift_stall_s = shift_stall_s;
@@ -286,6 +292,8 @@ struct ExplorerVariants {
                   text("At the end of a corridor a side open by the entropy rule is open where the remembered points leave it free, whatever the latest sonar scan's blocked-near columns say (on by default since session 17; docs/explore.md, sessions 15 and 17)"));
     cmd->add_flag("--wall-lines-binned,!--no-wall-lines-binned", wall_lines_binned,
                   text("With --wall-lines: their frame is the camera's image downsampled (rendered at twice the size, one sample and the sensor's noise per pixel, averaged over 2x2 blocks), so the noise averages; at the loop's noise most frames then read (on by default since session 17; docs/explore.md, sessions 16 and 17)"));
+    cmd->add_flag("--wall-lines-drop-row,!--no-wall-lines-drop-row", wall_lines_drop_row,
+                  text("With --wall-lines: a frame whose best line is one image row's points (a far foot across the view, an end wall's, which says nothing of the direction) leaves that line and its points out and seeks the lines again among the rest, so a near wall's base beside it still reads (off by default; docs/explore.md, session 46)"));
     cmd->add_option("--wall-line-free", wall_line_free_m,
                     text("With --wall-lines: where the walls' lines show a corridor free this far ahead (metres), an end read by the visual sonar alone is not taken and a probed side is open (0: off; 2.5 by default since session 17; docs/explore.md, sessions 16 and 17)"))
         ->capture_default_str()
@@ -300,6 +308,10 @@ struct ExplorerVariants {
                     text("With --wall-lines and without --wall-line-align: the walls' lines are read while scanning and aligning at a standstill too, and set the axis there only where they disagree with the glance by more than this many degrees; where they agree the run is the run without it (0) step for step (summary.json counts the overrides as align_line_overrides; 0: off; 25 by default since session 45; docs/explore.md, sessions 42 and 45)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 45.0));
+    cmd->add_option("--wall-keep", wall_keep_m,
+                    text("With --wall-lines: while following, a wall line read in the last 0.5 s within 30 degrees of the axis and nearer to the robot's centre than this (metres) bounds the heading to a few degrees away from the line's own direction, whatever the axis held says: near a wall the glance's heading is biased and the visual sonar may see no floor edge (summary.json counts the frames it bounded as wall_keep_frames; 0: off, the default; docs/explore.md, session 46)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 2.0));
     cmd->add_option("--scan-entropy-floor", scan_entropy_floor,
                     text("A scan in place does not set off along a direction of its axis that the memory finds free to the scan's full reach (nothing ranged there) when its glance entropy is below this fraction of the highest of the four: a door up close read as a corridor view and, its near columns forgotten, as the only free direction; a run whose scans never lose their choice to this is the run without it step for step (summary.json counts the scans it changed as scan_entropy_skips; 0: off; 0.9 by default since session 45; docs/explore.md, sessions 43 and 45)"))
         ->capture_default_str()
@@ -538,11 +550,12 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
   // contacts_felt the contacts the robot felt from its wheels (--feel-contacts); near_edges the edges
   // ranged inside the blind range while setting off (--setoff-near-edges); align_line_overrides how
   // often the walls' lines overrode the glance at a standstill (--wall-line-align-over);
-  // scan_entropy_skips the scans whose choice of direction --scan-entropy-floor changed.
+  // scan_entropy_skips the scans whose choice of direction --scan-entropy-floor changed;
+  // wall_keep_frames the following frames whose heading --wall-keep bounded.
   std::string csv =
       "world,start,x_m,y_m,yaw_deg,sim_seconds,distance_m,coverage,ends_detected,turns,collisions,proceeded,"
       "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg,first_collision_s,first_hit,mirror_scans,contacts_felt,near_edges,"
-      "align_line_overrides,scan_entropy_skips\n";
+      "align_line_overrides,scan_entropy_skips,wall_keep_frames\n";
   std::map<std::string, int> first_hits;  // world: what, -> runs whose first contact it was
   int total_collisions = 0, runs = 0, clean = 0;
   int off_axis_runs = 0, setoff_off = 0;  // runs with following frames; set-offs more than 10° off the axis
@@ -573,7 +586,8 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
              Cell(s.setoff_axis_error_deg, 2) + "," + Cell(s.axis_error_p90_deg, 2) + "," + Cell(s.axis_error_over_10deg, 4) +
              "," + Cell(s.first_collision_s, 2) + "," + CsvText(s.first_hit) + "," + std::to_string(s.mirror_scans) + "," +
              std::to_string(s.contacts_felt) + "," + std::to_string(s.near_edges) + "," +
-             std::to_string(s.align_line_overrides) + "," + std::to_string(s.scan_entropy_skips) + "\n";
+             std::to_string(s.align_line_overrides) + "," + std::to_string(s.scan_entropy_skips) + "," +
+             std::to_string(s.wall_keep_frames) + "\n";
       if (!s.first_hit.empty()) ++first_hits[world.name + ": " + s.first_hit];
       if (std::isfinite(s.axis_error_over_10deg)) {
         off_axis_sum += s.axis_error_over_10deg;

@@ -286,6 +286,11 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
         wall_bottom_texture = std::move(wl.bottom_texture);
         p.wall_bottom_texture = &wall_bottom_texture;
         p.wall_line_corridor_ahead_m = wl.valid ? wl.corridor_ahead_m : 0.0;
+        if (wl.valid) {
+          p.wall_line_direction_deg = RadToDeg(wl.direction_rad);
+          p.wall_line_offset_m = wl.offset_m;
+          if (2 * wl.parallel_inliers >= options.wall_lines.min_inliers) p.wall_line_parallel_offset_m = wl.parallel_offset_m;
+        }
       }
     }
     if (sonar && f % options.sonar_every == 0) {
@@ -417,6 +422,7 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   s.mirror_scans = explorer.MirrorsFound();
   s.align_line_overrides = explorer.AlignLineOverrides();
   s.scan_entropy_skips = explorer.ScanEntropySkips();
+  s.wall_keep_frames = explorer.WallKeepFrames();
   s.contacts_felt = explorer.ContactsFelt();
   s.near_edges = explorer.NearEdgesRanged();
   if (!axis_errors.empty()) {

@@ -178,6 +178,9 @@ std::string ExplorerOptions::Validate() const {
   if (!Positive(wall_line_hold_s)) return "wall_line_hold_s must be positive";
   if (!NonNegative(wall_line_min_diff_deg)) return "wall_line_min_diff_deg must be >= 0";
   if (!NonNegative(wall_line_free_m)) return "wall_line_free_m must be >= 0";
+  if (!NonNegative(wall_keep_m) || wall_keep_m > 2.0) return "wall_keep_m must be in [0, 2]";
+  if (!NonNegative(wall_keep_gain_deg_per_m)) return "wall_keep_gain_deg_per_m must be >= 0";
+  if (!NonNegative(wall_keep_max_deg) || wall_keep_max_deg > 45.0) return "wall_keep_max_deg must be in [0, 45]";
   if (!NonNegative(mouth_centre_min_m)) return "mouth_centre_min_m must be >= 0";
   if (!(mouth_centre_max_m >= mouth_centre_min_m && std::isfinite(mouth_centre_max_m)))
     return "mouth_centre_max_m must be >= mouth_centre_min_m";
@@ -1106,6 +1109,44 @@ bool Explorer::WallLinesFree(const Percept& p, double yaw) const {
   return facing > 0 && 2 * free >= facing;
 }
 
+bool Explorer::WallKeep(const Percept& p, double* target_rel_axis) {
+  if (opt_.wall_keep_m <= 0.0) return false;
+  if (p.wall_line_offset_m && p.wall_line_direction_deg) {
+    WallKeepReading& r = wall_keep_reading_;
+    r.stamp_s = p.stamp_s;
+    r.odom_T_robot = p.odom_T_robot;
+    r.direction_rad = DegToRad(*p.wall_line_direction_deg);
+    r.offsets_m[0] = *p.wall_line_offset_m;
+    r.lines = 1;
+    if (p.wall_line_parallel_offset_m) r.offsets_m[r.lines++] = *p.wall_line_parallel_offset_m;
+  }
+  const WallKeepReading& r = wall_keep_reading_;
+  if (r.stamp_s < 0.0 || p.stamp_s - r.stamp_s > 0.5) return false;
+  // The line's direction in the odometry frame, the one of its two senses nearest the axis.
+  double line_yaw = WrapPi(r.odom_T_robot.yaw + r.direction_rad);
+  if (std::abs(WrapPi(line_yaw - axis_yaw_odom_)) > kPi / 2) line_yaw = WrapPi(line_yaw + kPi);
+  if (std::abs(WrapPi(line_yaw - axis_yaw_odom_)) > DegToRad(30.0)) return false;
+  // Each line's signed distance from the robot now (left of the line's direction positive).
+  const Eigen::Vector2d n(-std::sin(line_yaw), std::cos(line_yaw));
+  const Eigen::Vector2d n_read(-std::sin(r.odom_T_robot.yaw + r.direction_rad), std::cos(r.odom_T_robot.yaw + r.direction_rad));
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < r.lines; ++i) {
+    const Eigen::Vector2d on_line = r.odom_T_robot.Translation() + r.offsets_m[i] * n_read;
+    const double d = n.dot(on_line - p.odom_T_robot.Translation());
+    if (std::abs(d) < std::abs(nearest)) nearest = d;
+  }
+  if (!(std::abs(nearest) < opt_.wall_keep_m)) return false;
+  const double push = std::min(opt_.wall_keep_max_deg, opt_.wall_keep_gain_deg_per_m * (opt_.wall_keep_m - std::abs(nearest)));
+  // Away from the wall: right of the line's direction for a wall on the left.
+  const double bound = WrapPi(line_yaw - std::copysign(DegToRad(push), nearest) - axis_yaw_odom_);
+  const double t = *target_rel_axis;
+  const double kept = nearest > 0.0 ? std::min(t, bound) : std::max(t, bound);
+  if (kept == t) return false;
+  *target_rel_axis = kept;
+  ++wall_keep_frames_;
+  return true;
+}
+
 Command Explorer::FollowStep(const Percept& p) {
   UpdateWallLines(p);
   UpdateAxis(p);
@@ -1230,6 +1271,7 @@ Command Explorer::FollowStep(const Percept& p) {
       yaw = BestGap(p, desired_yaw, &free, left <= near ? left : -1.0, right <= near ? right : -1.0);
     }
     target = WrapPi(yaw - axis_yaw_odom_);
+    WallKeep(p, &target);
   }
   const double err = WrapPi(target - heading);
   cmd.omega_rps = std::clamp(opt_.heading_gain * err, -opt_.max_omega_rps, opt_.max_omega_rps);

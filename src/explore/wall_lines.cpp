@@ -157,93 +157,123 @@ WallLines FindWallLines(const GrayView& image, const CameraModel& camera, const 
   }
   if (base_points) *base_points = pts;
   out.points = static_cast<int>(pts.size());
-  const int n = out.points;
+  int n = out.points;
   if (n < o.min_inliers) return out;
 
-  // Sampled pairs (a fixed sequence: the same image gives the same lines).
-  Hypothesis best;
+  // Two attempts at most (drop_one_row_line); all_pts keeps every point for the foot across the
+  // corridor when the second leaves some out.
+  std::vector<Eigen::Vector2d> all_pts;
+  Eigen::Vector2d dir, origin;
+  double par_centre = 0.0, ss = 0.0, par_mean = 0.0;
+  int inl = 0, pinl = 0;
   std::vector<double> r;
-  const double bin = o.parallel_bin_m;
-  for (int s = 0; s < o.samples; ++s) {
-    const int i = static_cast<int>((static_cast<long long>(s) * 7919) % n);
-    const int j = static_cast<int>((i + 1 + (static_cast<long long>(s) * 104729) % (n - 1)) % n);
-    Eigen::Vector2d d = pts[static_cast<std::size_t>(j)] - pts[static_cast<std::size_t>(i)];
-    const double len = d.norm();
-    if (len < o.min_pair_m) continue;
-    d /= len;
-    Residuals(pts, pts[static_cast<std::size_t>(i)], d, &r);
-    int inl = 0;
-    for (double x : r) inl += std::abs(x) < o.inlier_m;
-    double centre = 0.0;
-    const int score = inl + ParallelBin(r, o.inlier_m, bin, &centre);
-    if (score > best.score) best = {score, d, pts[static_cast<std::size_t>(i)]};
-  }
-  if (best.score < 0) return out;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    // Sampled pairs (a fixed sequence: the same image gives the same lines).
+    Hypothesis best;
+    const double bin = o.parallel_bin_m;
+    for (int s = 0; s < o.samples; ++s) {
+      const int i = static_cast<int>((static_cast<long long>(s) * 7919) % n);
+      const int j = static_cast<int>((i + 1 + (static_cast<long long>(s) * 104729) % (n - 1)) % n);
+      Eigen::Vector2d d = pts[static_cast<std::size_t>(j)] - pts[static_cast<std::size_t>(i)];
+      const double len = d.norm();
+      if (len < o.min_pair_m) continue;
+      d /= len;
+      Residuals(pts, pts[static_cast<std::size_t>(i)], d, &r);
+      int hits = 0;
+      for (double x : r) hits += std::abs(x) < o.inlier_m;
+      double centre = 0.0;
+      const int score = hits + ParallelBin(r, o.inlier_m, bin, &centre);
+      if (score > best.score) best = {score, d, pts[static_cast<std::size_t>(i)]};
+    }
+    if (best.score < 0) return out;
 
-  // Refine: both groups' pooled scatter about their own means gives the direction (twice, the
-  // groups taken again about the refined lines).
-  Eigen::Vector2d dir = best.dir, origin = best.origin;
-  double par_centre = 0.0;
-  std::vector<int> group(static_cast<std::size_t>(n));
-  for (int round = 0; round < 2; ++round) {
+    // Refine: both groups' pooled scatter about their own means gives the direction (twice, the
+    // groups taken again about the refined lines).
+    dir = best.dir;
+    origin = best.origin;
+    par_centre = 0.0;
+    std::vector<int> group(static_cast<std::size_t>(n));
+    for (int round = 0; round < 2; ++round) {
+      Residuals(pts, origin, dir, &r);
+      const int par = ParallelBin(r, o.inlier_m, bin, &par_centre);
+      Eigen::Vector2d mean[2] = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
+      int count[2] = {0, 0};
+      for (int k = 0; k < n; ++k) {
+        const double x = r[static_cast<std::size_t>(k)];
+        int g = -1;
+        if (std::abs(x) < o.inlier_m) g = 0;
+        else if (par > 0 && std::abs(x - par_centre) < o.inlier_m) g = 1;
+        group[static_cast<std::size_t>(k)] = g;
+        if (g >= 0) mean[g] += pts[static_cast<std::size_t>(k)], ++count[g];
+      }
+      if (count[0] < 2) return out;
+      for (int g = 0; g < 2; ++g)
+        if (count[g] > 0) mean[g] /= count[g];
+      Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+      for (int k = 0; k < n; ++k) {
+        const int g = group[static_cast<std::size_t>(k)];
+        if (g < 0 || count[g] < 2) continue;
+        const Eigen::Vector2d q = pts[static_cast<std::size_t>(k)] - mean[g];
+        scatter += q * q.transpose();
+      }
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter);
+      Eigen::Vector2d nd = eig.eigenvectors().col(1);
+      if (nd.dot(dir) < 0.0) nd = -nd;
+      dir = nd;
+      origin = mean[0];
+    }
+
+    // The final groups about the refined lines.
     Residuals(pts, origin, dir, &r);
     const int par = ParallelBin(r, o.inlier_m, bin, &par_centre);
-    Eigen::Vector2d mean[2] = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
-    int count[2] = {0, 0};
+    double lo = 1e300, hi = -1e300, par_sum = 0.0;
+    int row_lo = h, row_hi = -1;
+    ss = 0.0;
+    inl = pinl = 0;
     for (int k = 0; k < n; ++k) {
       const double x = r[static_cast<std::size_t>(k)];
-      int g = -1;
-      if (std::abs(x) < o.inlier_m) g = 0;
-      else if (par > 0 && std::abs(x - par_centre) < o.inlier_m) g = 1;
-      group[static_cast<std::size_t>(k)] = g;
-      if (g >= 0) mean[g] += pts[static_cast<std::size_t>(k)], ++count[g];
+      if (std::abs(x) < o.inlier_m) {
+        ++inl;
+        ss += x * x;
+        const double along = dir.dot(pts[static_cast<std::size_t>(k)]);
+        lo = std::min(lo, along), hi = std::max(hi, along);
+        row_lo = std::min(row_lo, pt_rows[static_cast<std::size_t>(k)]);
+        row_hi = std::max(row_hi, pt_rows[static_cast<std::size_t>(k)]);
+      } else if (par > 0 && std::abs(x - par_centre) < o.inlier_m) {
+        ++pinl;
+        par_sum += x;
+      }
     }
-    if (count[0] < 2) return out;
-    for (int g = 0; g < 2; ++g)
-      if (count[g] > 0) mean[g] /= count[g];
-    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-    for (int k = 0; k < n; ++k) {
-      const int g = group[static_cast<std::size_t>(k)];
-      if (g < 0 || count[g] < 2) continue;
-      const Eigen::Vector2d q = pts[static_cast<std::size_t>(k)] - mean[g];
-      scatter += q * q.transpose();
+    par_mean = pinl > 0 ? par_sum / pinl : 0.0;
+    for (int k = 0; k < n && pinl > 0; ++k) {
+      const double x = r[static_cast<std::size_t>(k)];
+      if (std::abs(x) >= o.inlier_m && std::abs(x - par_centre) < o.inlier_m) ss += (x - par_mean) * (x - par_mean);
     }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter);
-    Eigen::Vector2d nd = eig.eigenvectors().col(1);
-    if (nd.dot(dir) < 0.0) nd = -nd;
-    dir = nd;
-    origin = mean[0];
-  }
-
-  // The final groups about the refined lines.
-  Residuals(pts, origin, dir, &r);
-  const int par = ParallelBin(r, o.inlier_m, bin, &par_centre);
-  double lo = 1e300, hi = -1e300, ss = 0.0, par_sum = 0.0;
-  int inl = 0, pinl = 0, row_lo = h, row_hi = -1;
-  for (int k = 0; k < n; ++k) {
-    const double x = r[static_cast<std::size_t>(k)];
-    if (std::abs(x) < o.inlier_m) {
-      ++inl;
-      ss += x * x;
-      const double along = dir.dot(pts[static_cast<std::size_t>(k)]);
-      lo = std::min(lo, along), hi = std::max(hi, along);
-      row_lo = std::min(row_lo, pt_rows[static_cast<std::size_t>(k)]);
-      row_hi = std::max(row_hi, pt_rows[static_cast<std::size_t>(k)]);
-    } else if (par > 0 && std::abs(x - par_centre) < o.inlier_m) {
-      ++pinl;
-      par_sum += x;
+    out.inliers = inl;
+    out.parallel_inliers = pinl;
+    // Points of one image row lie on a line across the view whatever the walls do (where a far
+    // floor's texture fades out): such a line says nothing of the direction.
+    if (inl >= o.min_inliers && row_hi - row_lo + 1 < o.min_rows && o.drop_one_row_line && attempt == 0) {
+      // The best line is one image row's points (a far foot across the view, an end wall's): it
+      // says nothing of the direction, but it can outnumber a near wall's base beside it. Its
+      // points are left out and the lines sought again among the rest.
+      all_pts = pts;
+      std::size_t keep = 0;
+      for (int k = 0; k < n; ++k) {
+        if (std::abs(r[static_cast<std::size_t>(k)]) < o.inlier_m) continue;
+        pts[keep] = pts[static_cast<std::size_t>(k)];
+        pt_rows[keep] = pt_rows[static_cast<std::size_t>(k)];
+        ++keep;
+      }
+      pts.resize(keep);
+      pt_rows.resize(keep);
+      n = static_cast<int>(keep);
+      if (n < o.min_inliers) return out;
+      continue;
     }
+    if (inl < o.min_inliers || hi - lo < o.min_span_m || row_hi - row_lo + 1 < o.min_rows) return out;
+    break;
   }
-  double par_mean = pinl > 0 ? par_sum / pinl : 0.0;
-  for (int k = 0; k < n && pinl > 0; ++k) {
-    const double x = r[static_cast<std::size_t>(k)];
-    if (std::abs(x) >= o.inlier_m && std::abs(x - par_centre) < o.inlier_m) ss += (x - par_mean) * (x - par_mean);
-  }
-  out.inliers = inl;
-  out.parallel_inliers = pinl;
-  // Points of one image row lie on a line across the view whatever the walls do (where a far
-  // floor's texture fades out): such a line says nothing of the direction.
-  if (inl < o.min_inliers || hi - lo < o.min_span_m || row_hi - row_lo + 1 < o.min_rows) return out;
   double theta = std::atan2(dir.y(), dir.x());
   if (theta <= -kPi / 2) theta += kPi;
   if (theta > kPi / 2) theta -= kPi;
@@ -262,9 +292,11 @@ WallLines FindWallLines(const GrayView& image, const CameraModel& camera, const 
     const double lo_off = std::min(out.offset_m, out.parallel_offset_m) + o.inlier_m;
     const double hi_off = std::max(out.offset_m, out.parallel_offset_m) - o.inlier_m;
     std::vector<double> between;
-    for (int k = 0; k < n; ++k) {
-      const double x = r[static_cast<std::size_t>(k)];
-      const Eigen::Vector2d& q = pts[static_cast<std::size_t>(k)];
+    const std::vector<Eigen::Vector2d>& foot_pts = all_pts.empty() ? pts : all_pts;
+    if (!all_pts.empty()) Residuals(all_pts, origin, dir, &r);
+    for (std::size_t k = 0; k < foot_pts.size(); ++k) {
+      const double x = r[k];
+      const Eigen::Vector2d& q = foot_pts[k];
       const double along = d.dot(q), across = left.dot(q);
       if (std::abs(x) >= o.inlier_m && std::abs(x - par_centre) >= o.inlier_m && along > 0.0 && across > lo_off && across < hi_off)
         between.push_back(along);

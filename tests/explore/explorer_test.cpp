@@ -388,6 +388,9 @@ struct ToyPlan {
   // The walls' lines with each scan: the heading off the axis, and the corridor free ahead up to
   // the first wall (floor edges do not end the floor's texture), at most 8 m.
   bool wall_lines = false;
+  // ...and with them the nearer of the walls y = ±1 as the main line (direction and offset in the
+  // robot frame), the other as the parallel line (a corridor along x from y = -1 to y = 1).
+  bool wall_line_offsets = false;
   double glance_bias_deg = 0.0;  // the glance's heading reads this much too far left (a carpeted corridor's)
   // The walls' lines' frame's bottom texture with each scan (128 columns over the sonar's view):
   // smooth where the column's ray meets a wall within the blind range, the floor's texture elsewhere.
@@ -478,6 +481,18 @@ struct ToyPlan {
       if (wall_lines) {
         p.wall_line_heading_deg = heading_deg;
         p.wall_line_corridor_ahead_m = std::min(8.0, Ray(pose.x, pose.y, pose.yaw));
+        if (wall_line_offsets) {
+          // The walls run along +x: in the robot frame along -yaw (or its opposite), their left
+          // normal's offsets 1 - y and -1 - y (negated when the direction is taken reversed).
+          double dir = WrapPi(-pose.yaw);
+          double sign = 1.0;
+          if (dir > kPi / 2) dir -= kPi, sign = -1.0;
+          if (dir <= -kPi / 2) dir += kPi, sign = -1.0;
+          const double left = sign * (1.0 - pose.y), right = sign * (-1.0 - pose.y);
+          p.wall_line_direction_deg = RadToDeg(dir);
+          p.wall_line_offset_m = std::abs(left) < std::abs(right) ? left : right;
+          p.wall_line_parallel_offset_m = std::abs(left) < std::abs(right) ? right : left;
+        }
       }
     }
     return p;
@@ -1091,6 +1106,39 @@ TEST(Explorer, UnknownColumnsWithASmoothBottomBesideTexturedFloorStayBlocked) {
     } else {
       EXPECT_LT(nearest, 0.25);
       EXPECT_EQ(explorer.BlindTextureColumns(), 0);
+    }
+  }
+}
+
+// A robot started 0.4 m from a wall of the floor's grey (the sonar reads its columns unknown, and
+// the walls' lines' frame shows no smooth bottom to tell: bottom_texture off), its glance reading
+// 8° off toward that wall: it sets off into the wall. The walls' lines, which measure the wall's
+// direction and distance, keep it off with wall_keep_m; without, it meets the wall.
+TEST(Explorer, WallLinesKeepTheRobotOffANearWallTheGlanceMisjudges) {
+  for (const double keep_m : {0.0, 0.45}) {
+    SCOPED_TRACE(keep_m);
+    ToyPlan world;
+    world.walls = {{-1, 1, 20, 1, false}, {-1, -1, 20, -1}, {-1, -1, -1, 1}, {20, -1, 20, 1}};
+    world.pose = {1.0, 0.6, DegToRad(13.0)};
+    world.wall_lines = true;
+    world.wall_line_offsets = true;
+    world.glance_bias_deg = -8.0;
+    ExplorerOptions o;
+    o.wall_keep_m = keep_m;
+    Explorer explorer(o);
+    double nearest = 1e9, max_x = 0.0;
+    for (int i = 0; i < 30 * 30; ++i) {
+      world.Apply(explorer.Step(world.Perceive()));
+      for (double a = -kPi; a < kPi; a += kPi / 36) nearest = std::min(nearest, world.Ray(world.pose.x, world.pose.y, a));
+      max_x = std::max(max_x, world.pose.x);
+    }
+    if (keep_m > 0.0) {
+      EXPECT_GT(nearest, 0.25);
+      EXPECT_GT(explorer.WallKeepFrames(), 0);
+      EXPECT_GT(max_x, 10.0);  // and it drove on down the corridor
+    } else {
+      EXPECT_LT(nearest, 0.25);
+      EXPECT_EQ(explorer.WallKeepFrames(), 0);
     }
   }
 }

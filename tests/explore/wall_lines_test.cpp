@@ -187,6 +187,36 @@ TEST(WallLines, TextureEndingAtOneRowSaysNothing) {
   EXPECT_GT(w.points, 20);
 }
 
+// The robot 0.35 m from the left wall, 5° toward it, the far wall out of view, a smooth end wall
+// across the corridor 7 m on: its foot, nearly one image row, has more points than the near
+// wall's base. drop_one_row_line leaves that row out and reads the near wall.
+TEST(WallLines, AFootAcrossTheViewIsLeftOutForTheNearWallBesideIt) {
+  const CameraModel cam = Camera128();
+  const auto img = Draw(cam, 5.0, 0.35, 2.85, 30.0, true, 7.0);
+  WallLineOptions o;
+  const WallLines plain = FindWallLines(View(cam, img), cam, o);
+  EXPECT_FALSE(plain.valid);
+  o.drop_one_row_line = true;
+  std::vector<Eigen::Vector2d> pts;
+  const WallLines w = FindWallLines(View(cam, img), cam, o, &pts);
+  ASSERT_TRUE(w.valid);
+  EXPECT_NEAR(RadToDeg(w.direction_rad), 5.0, 1.5);
+  EXPECT_NEAR(w.offset_m, 0.35, 0.05);
+  EXPECT_EQ(w.points, plain.points);  // every point found is still reported
+  EXPECT_EQ(static_cast<int>(pts.size()), w.points);
+  // Where the near wall's base is the best line anyway, the option changes nothing.
+  const auto two = Draw(cam, 3.0, 1.0, 1.1, 30.0, true, 5.0);
+  const WallLines a = FindWallLines(View(cam, two), cam);
+  const WallLines b = FindWallLines(View(cam, two), cam, o);
+  ASSERT_TRUE(a.valid);
+  EXPECT_EQ(a.direction_rad, b.direction_rad);
+  EXPECT_EQ(a.offset_m, b.offset_m);
+  EXPECT_EQ(a.parallel_offset_m, b.parallel_offset_m);
+  EXPECT_EQ(a.corridor_ahead_m, b.corridor_ahead_m);
+  // A floor's texture fading out along one row and nothing else: still no reading.
+  EXPECT_FALSE(FindWallLines(View(cam, Draw(cam, 15.0, 30.0, 30.0, 4.0)), cam, o).valid);
+}
+
 TEST(WallLines, TooSmallOrEmptyFrameGivesNoReading) {
   const CameraModel cam = Camera128();
   std::vector<std::uint8_t> tiny(128 * 10, 100);

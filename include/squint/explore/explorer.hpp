@@ -272,6 +272,17 @@ struct ExplorerOptions {
   // the west corridor. 0 turns it off (`squint explore --wall-line-free 0`); 2.5, the default since
   // session 17 (docs/explore.md, sessions 16-17).
   double wall_line_free_m = 2.5;
+  // Keeping off a wall the lines show near (> 0: on). While following, a wall line read within
+  // the last 0.5 s (Percept::wall_line_offset_m, moved by odometry since) lying within 30° of the
+  // axis and nearer to the robot's centre than this (metres) bounds the heading: at most
+  // wall_keep_gain_deg_per_m × (wall_keep_m − distance) degrees (wall_keep_max_deg at most) away
+  // from the line's own direction, whatever the axis held says. The lines measure the wall where
+  // the glance's heading is biased by a wall filling half the view and the visual sonar sees no
+  // floor edge (corridor-2 97/2: 0.35 m from the wall, the glance's axis 7° off, set off 5° toward
+  // it). 0 turns it off (`squint explore --wall-keep`; docs/explore.md, session 46).
+  double wall_keep_m = 0.0;
+  double wall_keep_gain_deg_per_m = 30.0;
+  double wall_keep_max_deg = 10.0;
   // At the end of a corridor (not at a side branch or a blockage), a side the entropy rule calls
   // open (open_entropy_ratio) is also open where the remembered points alone leave it free for
   // sonar_open_free_m, whatever the latest scan's blocked-near columns say. With an axis held
@@ -736,6 +747,7 @@ class Explorer {
   // Scans whose choice of direction scan_entropy_floor changed (the best-scoring direction was
   // skipped); 0 means the run is the run without it step for step.
   int ScanEntropySkips() const { return scan_entropy_skips_; }
+  int WallKeepFrames() const { return wall_keep_frames_; }
   // True while the walls' lines are wanted at a standstill (wall_line_align or wall_line_align_over_deg).
   bool WantsAlignLines() const { return opt_.wall_line_align || opt_.wall_line_align_over_deg > 0.0; }
   // Vertical edges ranged inside the blind range while setting off (setoff_near_edges).
@@ -858,6 +870,18 @@ class Explorer {
     double axis_rad = 0.0;
   };
   std::vector<WallLineReading> wall_line_readings_;
+  // The latest wall lines with their place (wall_keep_m): the odometry pose they were read from,
+  // the lines' direction in that robot frame, and their offsets (one or two).
+  struct WallKeepReading {
+    double stamp_s = -1.0;
+    Pose2 odom_T_robot;
+    double direction_rad = 0.0;
+    double offsets_m[2] = {0.0, 0.0};
+    int lines = 0;
+  };
+  WallKeepReading wall_keep_reading_;
+  int wall_keep_frames_ = 0;  // following frames whose heading the rule bounded
+  bool WallKeep(const Percept& p, double* target_rel_axis);
   double wall_line_axis_s_ = -1.0;
   struct WallLineAhead {
     double stamp_s, yaw, ahead_m;  // Percept::wall_line_corridor_ahead_m (0: none, or off the axis) and where it was taken

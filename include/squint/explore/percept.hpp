@@ -48,6 +48,13 @@ struct Percept {
   // ...and, when both walls' lines were found with the robot between them, how far ahead they
   // show the corridor free (WallLines::corridor_ahead_m, metres).
   std::optional<double> wall_line_corridor_ahead_m;
+  // ...and, when they were found (not in the heading-only frames of a standstill), the main line's
+  // direction in the robot frame (WallLines::direction_rad, degrees in (−90, 90], left positive)
+  // and its signed distance along its left normal (WallLines::offset_m), and the parallel line's
+  // (WallLines::parallel_offset_m) when at least WallLineOptions::min_inliers / 2 points lie on it.
+  std::optional<double> wall_line_direction_deg;
+  std::optional<double> wall_line_offset_m;
+  std::optional<double> wall_line_parallel_offset_m;
   // ...and, whenever a frame for them was taken, each of its columns' texture at the frame's
   // bottom (WallLines::bottom_texture, left to right across the camera's view); valid during Step() only.
   const std::vector<float>* wall_bottom_texture = nullptr;

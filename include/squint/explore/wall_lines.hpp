@@ -50,6 +50,11 @@ struct WallLineOptions {
   // carpet's blotches) give up to about 13 within 2.5 m in `default`'s middle corridor, an end
   // wall's foot one per column across it.
   int foot_points = 16;
+  // A best line whose points come from fewer than min_rows image rows (a far foot across the view,
+  // an end wall's) is left out with its points and the lines sought once more among the rest: a
+  // near wall's base beside it has fewer points but a direction (corridor-2, 0.35 m from its wall,
+  // the end wall 7 m ahead). false: such a frame has no lines.
+  bool drop_one_row_line = false;
   std::string Validate() const;
 };
 
