@@ -181,6 +181,7 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(wall_keep_m) || wall_keep_m > 2.0) return "wall_keep_m must be in [0, 2]";
   if (!NonNegative(wall_keep_gain_deg_per_m)) return "wall_keep_gain_deg_per_m must be >= 0";
   if (!NonNegative(wall_keep_max_deg) || wall_keep_max_deg > 45.0) return "wall_keep_max_deg must be in [0, 45]";
+  if (!NonNegative(wall_keep_gate_deg) || wall_keep_gate_deg > 45.0) return "wall_keep_gate_deg must be in [0, 45]";
   if (!NonNegative(mouth_centre_min_m)) return "mouth_centre_min_m must be >= 0";
   if (!(mouth_centre_max_m >= mouth_centre_min_m && std::isfinite(mouth_centre_max_m)))
     return "mouth_centre_max_m must be >= mouth_centre_min_m";
@@ -1125,7 +1126,7 @@ bool Explorer::WallKeep(const Percept& p, double* target_rel_axis) {
   // The line's direction in the odometry frame, the one of its two senses nearest the axis.
   double line_yaw = WrapPi(r.odom_T_robot.yaw + r.direction_rad);
   if (std::abs(WrapPi(line_yaw - axis_yaw_odom_)) > kPi / 2) line_yaw = WrapPi(line_yaw + kPi);
-  if (std::abs(WrapPi(line_yaw - axis_yaw_odom_)) > DegToRad(30.0)) return false;
+  if (std::abs(WrapPi(line_yaw - axis_yaw_odom_)) > DegToRad(opt_.wall_keep_gate_deg)) return false;
   // Each line's signed distance from the robot now (left of the line's direction positive).
   const Eigen::Vector2d n(-std::sin(line_yaw), std::cos(line_yaw));
   const Eigen::Vector2d n_read(-std::sin(r.odom_T_robot.yaw + r.direction_rad), std::cos(r.odom_T_robot.yaw + r.direction_rad));

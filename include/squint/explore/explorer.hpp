@@ -273,14 +273,18 @@ struct ExplorerOptions {
   // session 17 (docs/explore.md, sessions 16-17).
   double wall_line_free_m = 2.5;
   // Keeping off a wall the lines show near (> 0: on). While following, a wall line read within
-  // the last 0.5 s (Percept::wall_line_offset_m, moved by odometry since) lying within 30° of the
-  // axis and nearer to the robot's centre than this (metres) bounds the heading: at most
+  // the last 0.5 s (Percept::wall_line_offset_m, moved by odometry since) lying within
+  // wall_keep_gate_deg of the axis and nearer to the robot's centre than this (metres) bounds the heading: at most
   // wall_keep_gain_deg_per_m × (wall_keep_m − distance) degrees (wall_keep_max_deg at most) away
   // from the line's own direction, whatever the axis held says. The lines measure the wall where
   // the glance's heading is biased by a wall filling half the view and the visual sonar sees no
   // floor edge (corridor-2 97/2: 0.35 m from the wall, the glance's axis 7° off, set off 5° toward
-  // it). 0 turns it off (`squint explore --wall-keep`; docs/explore.md, session 46).
+  // it). 0 turns it off (`squint explore --wall-keep`; docs/explore.md, session 46). The gate
+  // leaves out lines farther off the axis than the axis can be wrong: a rotated box's base 27° off
+  // it, 0.35 m to the right, turned the robot 30° left into another box (the obstacle course's
+  // start 4 of seed 5, with a 30° gate).
   double wall_keep_m = 0.0;
+  double wall_keep_gate_deg = 15.0;
   double wall_keep_gain_deg_per_m = 30.0;
   double wall_keep_max_deg = 10.0;
   // At the end of a corridor (not at a side branch or a blockage), a side the entropy rule calls
