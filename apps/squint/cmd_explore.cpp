@@ -309,7 +309,7 @@ struct ExplorerVariants {
         ->capture_default_str()
         ->check(CLI::Range(0.0, 45.0));
     cmd->add_option("--wall-keep", wall_keep_m,
-                    text("With --wall-lines: while following, a wall line read in the last 0.5 s within 15 degrees of the axis and nearer to the robot's centre than this (metres) bounds the heading to a few degrees away from the line's own direction, whatever the axis held says: near a wall the glance's heading is biased and the visual sonar may see no floor edge (summary.json counts the frames it bounded as wall_keep_frames; 0: off, the default; docs/explore.md, session 46)"))
+                    text("With --wall-lines: while setting off (from the start or a look around in place, for the first 1.6 m of following), a wall line read in the last 0.5 s within 15 degrees of the axis and nearer to the robot's centre than this (metres) bounds the heading to a few degrees away from the line's own direction, whatever the axis held says: near a wall the glance's heading is biased and the visual sonar may see no floor edge (summary.json counts the frames it bounded as wall_keep_frames; 0: off, the default; docs/explore.md, session 46)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 2.0));
     cmd->add_option("--scan-entropy-floor", scan_entropy_floor,

@@ -1111,7 +1111,7 @@ bool Explorer::WallLinesFree(const Percept& p, double yaw) const {
 }
 
 bool Explorer::WallKeep(const Percept& p, double* target_rel_axis) {
-  if (opt_.wall_keep_m <= 0.0) return false;
+  if (opt_.wall_keep_m <= 0.0 || (opt_.wall_keep_setoff_only && !setting_off_)) return false;
   if (p.wall_line_offset_m && p.wall_line_direction_deg) {
     WallKeepReading& r = wall_keep_reading_;
     r.stamp_s = p.stamp_s;

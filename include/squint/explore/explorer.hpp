@@ -272,7 +272,7 @@ struct ExplorerOptions {
   // the west corridor. 0 turns it off (`squint explore --wall-line-free 0`); 2.5, the default since
   // session 17 (docs/explore.md, sessions 16-17).
   double wall_line_free_m = 2.5;
-  // Keeping off a wall the lines show near (> 0: on). While following, a wall line read within
+  // Keeping off a wall the lines show near (> 0: on). While setting off (wall_keep_setoff_only), a wall line read within
   // the last 0.5 s (Percept::wall_line_offset_m, moved by odometry since) lying within
   // wall_keep_gate_deg of the axis and nearer to the robot's centre than this (metres) bounds the heading: at most
   // wall_keep_gain_deg_per_m × (wall_keep_m − distance) degrees (wall_keep_max_deg at most) away
@@ -285,6 +285,10 @@ struct ExplorerOptions {
   // start 4 of seed 5, with a 30° gate).
   double wall_keep_m = 0.0;
   double wall_keep_gate_deg = 15.0;
+  // Only while setting off (from the start or a look around in place until trust_memory_after_m of
+  // following), where the failures it is for happen: applied all along, it bounded 1,314 frames of
+  // the main job, whose route then passed the carpeted middle corridor (coverage 0.854).
+  bool wall_keep_setoff_only = true;
   double wall_keep_gain_deg_per_m = 30.0;
   double wall_keep_max_deg = 10.0;
   // At the end of a corridor (not at a side branch or a blockage), a side the entropy rule calls
