@@ -1123,13 +1123,14 @@ bool Explorer::WallKeep(const Percept& p, double* target_rel_axis) {
   }
   const WallKeepReading& r = wall_keep_reading_;
   if (r.stamp_s < 0.0 || p.stamp_s - r.stamp_s > 0.5) return false;
-  // The line's direction in the odometry frame, the one of its two senses nearest the axis.
-  double line_yaw = WrapPi(r.odom_T_robot.yaw + r.direction_rad);
+  // The line's direction in the odometry frame as read, and the one of its two senses nearest the axis.
+  const double read_yaw = r.odom_T_robot.yaw + r.direction_rad;
+  double line_yaw = WrapPi(read_yaw);
   if (std::abs(WrapPi(line_yaw - axis_yaw_odom_)) > kPi / 2) line_yaw = WrapPi(line_yaw + kPi);
   if (std::abs(WrapPi(line_yaw - axis_yaw_odom_)) > DegToRad(opt_.wall_keep_gate_deg)) return false;
   // Each line's signed distance from the robot now (left of the line's direction positive).
   const Eigen::Vector2d n(-std::sin(line_yaw), std::cos(line_yaw));
-  const Eigen::Vector2d n_read(-std::sin(r.odom_T_robot.yaw + r.direction_rad), std::cos(r.odom_T_robot.yaw + r.direction_rad));
+  const Eigen::Vector2d n_read(-std::sin(read_yaw), std::cos(read_yaw));
   double nearest = std::numeric_limits<double>::infinity();
   for (int i = 0; i < r.lines; ++i) {
     const Eigen::Vector2d on_line = r.odom_T_robot.Translation() + r.offsets_m[i] * n_read;
