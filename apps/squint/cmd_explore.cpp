@@ -84,6 +84,8 @@ struct ExplorerVariants {
   double wall_line_align_over_deg = 25.0;
   // A scan takes no direction free to its reach whose entropy is below this fraction of the best of the four (ExplorerOptions::scan_entropy_floor; 0: off; 0.9 since session 45).
   double scan_entropy_floor = 0.9;
+  // A scan takes no direction with a wall's entropy (below this fraction of the best; ExplorerOptions::scan_wall_entropy; 0: off).
+  double scan_wall_entropy = 0.0;
   // Keep off a wall the lines show nearer than this (metres; ExplorerOptions::wall_keep_m; 0: off).
   double wall_keep_m = 0.0;
   // An opening beside a junction whose side was judged a wall is looked at (ExplorerOptions::opening_beside_wall_node; off).
@@ -212,6 +214,7 @@ struct ExplorerVariants {
     ro.explorer.wall_line_align = wall_line_align;
     ro.explorer.wall_line_align_over_deg = wall_line_align_over_deg;
     ro.explorer.scan_entropy_floor = scan_entropy_floor;
+    ro.explorer.scan_wall_entropy = scan_wall_entropy;
     ro.explorer.wall_keep_m = wall_keep_m;
     ro.explorer.opening_beside_wall_node = opening_beside_wall_node;
     ro.explorer.arrival_min_travel_m = arrival_min_travel_m;
@@ -314,6 +317,10 @@ struct ExplorerVariants {
         ->check(CLI::Range(0.0, 2.0));
     cmd->add_option("--scan-entropy-floor", scan_entropy_floor,
                     text("A scan in place does not set off along a direction of its axis that the memory finds free to the scan's full reach (nothing ranged there) when its glance entropy is below this fraction of the highest of the four: a door up close read as a corridor view and, its near columns forgotten, as the only free direction; a run whose scans never lose their choice to this is the run without it step for step (summary.json counts the scans it changed as scan_entropy_skips; 0: off; 0.9 by default since session 45; docs/explore.md, sessions 43 and 45)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--scan-wall-entropy", scan_wall_entropy,
+                    text("A scan in place does not set off along a direction of its axis whose glance entropy is below this fraction of the highest of the four, whatever the memory's free travel there, unless all four are: a brick wall 0.4 m away has a wall's entropy while its mortar courses range it metres off (summary.json counts the scans it changed as scan_wall_entropy_skips; 0: off, the default; docs/explore.md, session 47)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("--opening-beside-wall-node,!--no-opening-beside-wall-node", opening_beside_wall_node,
@@ -551,11 +558,12 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
   // ranged inside the blind range while setting off (--setoff-near-edges); align_line_overrides how
   // often the walls' lines overrode the glance at a standstill (--wall-line-align-over);
   // scan_entropy_skips the scans whose choice of direction --scan-entropy-floor changed;
-  // wall_keep_frames the following frames whose heading --wall-keep bounded.
+  // wall_keep_frames the following frames whose heading --wall-keep bounded;
+  // scan_wall_entropy_skips the scans whose choice of direction --scan-wall-entropy changed.
   std::string csv =
       "world,start,x_m,y_m,yaw_deg,sim_seconds,distance_m,coverage,ends_detected,turns,collisions,proceeded,"
       "setoff_s,setoff_axis_error_deg,axis_error_p90_deg,axis_error_over_10deg,first_collision_s,first_hit,mirror_scans,contacts_felt,near_edges,"
-      "align_line_overrides,scan_entropy_skips,wall_keep_frames\n";
+      "align_line_overrides,scan_entropy_skips,wall_keep_frames,scan_wall_entropy_skips\n";
   std::map<std::string, int> first_hits;  // world: what, -> runs whose first contact it was
   int total_collisions = 0, runs = 0, clean = 0;
   int off_axis_runs = 0, setoff_off = 0;  // runs with following frames; set-offs more than 10° off the axis
@@ -587,7 +595,7 @@ void RunEvalExplore(const EvalExploreOptions& opt) {
              "," + Cell(s.first_collision_s, 2) + "," + CsvText(s.first_hit) + "," + std::to_string(s.mirror_scans) + "," +
              std::to_string(s.contacts_felt) + "," + std::to_string(s.near_edges) + "," +
              std::to_string(s.align_line_overrides) + "," + std::to_string(s.scan_entropy_skips) + "," +
-             std::to_string(s.wall_keep_frames) + "\n";
+             std::to_string(s.wall_keep_frames) + "," + std::to_string(s.scan_wall_entropy_skips) + "\n";
       if (!s.first_hit.empty()) ++first_hits[world.name + ": " + s.first_hit];
       if (std::isfinite(s.axis_error_over_10deg)) {
         off_axis_sum += s.axis_error_over_10deg;

@@ -150,6 +150,8 @@ std::string SummaryJson(const ExploreSummary& s) {
   // Scans whose choice of direction `--scan-entropy-floor` changed (0 when off).
   j["scan_entropy_skips"] = s.scan_entropy_skips;
   j["wall_keep_frames"] = s.wall_keep_frames;
+  // Scans whose choice of direction `--scan-wall-entropy` changed (0 when off).
+  j["scan_wall_entropy_skips"] = s.scan_wall_entropy_skips;
   // Contacts the robot felt from its wheels (`--feel-contacts`; 0 when off).
   j["contacts_felt"] = s.contacts_felt;
   j["near_edges"] = s.near_edges;

@@ -423,6 +423,7 @@ ExploreRunResult RunExplore(const sim::World& world, const ExploreRunOptions& op
   s.align_line_overrides = explorer.AlignLineOverrides();
   s.scan_entropy_skips = explorer.ScanEntropySkips();
   s.wall_keep_frames = explorer.WallKeepFrames();
+  s.scan_wall_entropy_skips = explorer.ScanWallEntropySkips();
   s.contacts_felt = explorer.ContactsFelt();
   s.near_edges = explorer.NearEdgesRanged();
   if (!axis_errors.empty()) {

@@ -165,6 +165,7 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(wall_line_align_over_deg) || wall_line_align_over_deg > 45.0)
     return "wall_line_align_over_deg must be in [0, 45]";
   if (!NonNegative(scan_entropy_floor) || scan_entropy_floor > 1.0) return "scan_entropy_floor must be in [0, 1]";
+  if (!NonNegative(scan_wall_entropy) || scan_wall_entropy > 1.0) return "scan_wall_entropy must be in [0, 1]";
   if (!NonNegative(light_axis_gain) || light_axis_gain > 1.0) return "light_axis_gain must be in [0, 1]";
   if (!NonNegative(light_drift_gain) || light_drift_gain > 1.0) return "light_drift_gain must be in [0, 1]";
   if (!Positive(light_drift_gate_deg) || !Positive(light_drift_window_m) || !Positive(light_drift_max_rms_m) ||
@@ -742,24 +743,46 @@ Command Explorer::ScanStep(const Percept& p) {
       }
       double best_any = -1.0;  // the best score without the floor, to count the scans it changed
       bool best_any_skipped = false;
+      std::array<double, 4> free{}, score{};
+      std::array<bool, 4> skipped{};
       for (int k = 0; k < 4; ++k) {
-        const double yaw = WrapPi(axis_mod + k * kPi / 2);
-        const double e = entropy[static_cast<std::size_t>(k)];
-        const double free = scan_free(yaw);
+        const auto i = static_cast<std::size_t>(k);
+        free[i] = scan_free(WrapPi(axis_mod + k * kPi / 2));
         // With the sonar the free travel decides (metres dominate), entropy breaks ties.
-        const double h = e + (sonar_seen_ ? 10.0 * free : 0.0);
-        const bool skipped = opt_.scan_entropy_floor > 0.0 && e < opt_.scan_entropy_floor * top_entropy && free >= kScanReachM;
-        if (h > best_any) {
-          best_any = h;
-          best_any_skipped = skipped;
+        score[i] = entropy[i] + (sonar_seen_ ? 10.0 * free[i] : 0.0);
+        skipped[i] = opt_.scan_entropy_floor > 0.0 && entropy[i] < opt_.scan_entropy_floor * top_entropy && free[i] >= kScanReachM;
+      }
+      // scan_wall_entropy: a direction with a wall's entropy is not taken while another (not
+      // skipped by the floor) is left.
+      std::array<bool, 4> wall_view{};
+      bool other_left = false;
+      for (std::size_t i = 0; i < 4; ++i) {
+        wall_view[i] = opt_.scan_wall_entropy > 0.0 && entropy[i] < opt_.scan_wall_entropy * top_entropy;
+        other_left = other_left || (!skipped[i] && !wall_view[i]);
+      }
+      if (!other_left) wall_view.fill(false);
+      double best_kept = -1.0;  // the choice without scan_wall_entropy, to count the scans it changed
+      double best_kept_yaw = best_yaw;
+      for (int k = 0; k < 4; ++k) {
+        const auto i = static_cast<std::size_t>(k);
+        const double yaw = WrapPi(axis_mod + k * kPi / 2);
+        if (score[i] > best_any) {
+          best_any = score[i];
+          best_any_skipped = skipped[i];
         }
-        if (skipped) continue;
-        if (h > best) {
-          best = h;
+        if (skipped[i]) continue;
+        if (score[i] > best_kept) {
+          best_kept = score[i];
+          best_kept_yaw = yaw;
+        }
+        if (wall_view[i]) continue;
+        if (score[i] > best) {
+          best = score[i];
           best_yaw = yaw;
         }
       }
       if (best_any_skipped) ++scan_entropy_skips_;
+      if (best_yaw != best_kept_yaw) ++scan_wall_entropy_skips_;
     } else {
       for (int i = 0; i < bins; ++i) {
         const double yaw = WrapPi(scan_start_yaw_ + (i + 0.5) * 2 * kPi / bins);

@@ -154,6 +154,7 @@ struct ExploreSummary {
   int align_line_overrides = 0;  // the walls' lines overrode the glance at a standstill (--wall-line-align-over)
   int scan_entropy_skips = 0;    // scans whose choice of direction --scan-entropy-floor changed
   int wall_keep_frames = 0;      // following frames whose heading --wall-keep bounded
+  int scan_wall_entropy_skips = 0;  // scans whose choice of direction --scan-wall-entropy changed
   int mirror_scans = 0;  // sonar scans that showed the robot's own reflection (--mirror-watch)
   int contacts_felt = 0;  // contacts felt from the wheels (--feel-contacts)
   long near_edges = 0;    // edges ranged inside the blind range while setting off (--setoff-near-edges)

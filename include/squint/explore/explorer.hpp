@@ -94,6 +94,14 @@ struct ExplorerOptions {
   // without it step for step (scan_entropy_skips counts those that do). `squint explore
   // --scan-entropy-floor R`; docs/explore.md, sessions 43 and 45. 0.9 since session 45 (0: off).
   double scan_entropy_floor = 0.9;
+  // A scan takes no axis direction whose glance entropy is below this fraction of the best of the
+  // four, whatever its free travel, unless every direction is below it (0: off, the default). A
+  // brick wall 0.4 m away gives the glance a wall's low entropy (0.63 of the best) while its mortar
+  // courses, taken for floor boundaries, range it 1.2-1.5 m off: the free travel then outscored the
+  // directions the near walls and an axis 20° off left 0.25-0.3 m of (corridor-9's starts 4 of
+  // seed 40 and 5 of seed 67, near the T's bar). `squint explore --scan-wall-entropy R`;
+  // docs/explore.md, session 47.
+  double scan_wall_entropy = 0.0;
   // The corridor axis checked against the walls the memory holds (ObstacleMemory::WallAxisMod90,
   // trusted with at least wall_axis_min_pairs pairs and wall_axis_min_strength): a scan takes the
   // walls' axis where the glance's differs from it by more than 10 degrees, a probe first snaps
@@ -752,6 +760,8 @@ class Explorer {
   // How often the walls' lines overrode the glance at a standstill under wall_line_align_over_deg
   // (scan axes and alignment medians replaced); 0 means the run is the run without it step for step.
   int AlignLineOverrides() const { return align_line_overrides_; }
+  // Scans whose choice of direction scan_wall_entropy changed (0: the run without it step for step).
+  int ScanWallEntropySkips() const { return scan_wall_entropy_skips_; }
   // Scans whose choice of direction scan_entropy_floor changed (the best-scoring direction was
   // skipped); 0 means the run is the run without it step for step.
   int ScanEntropySkips() const { return scan_entropy_skips_; }
@@ -974,6 +984,7 @@ class Explorer {
   std::vector<double> align_line_samples_;  // the walls' lines' headings while aligning (wall_line_align)
   bool align_line_scanned_ = false;  // the lines sent this alignment to a full scan once already
   int align_line_overrides_ = 0;  // (wall_line_align_over_deg) the lines overrode the glance
+  int scan_wall_entropy_skips_ = 0;  // (scan_wall_entropy) scans whose choice it changed
   int scan_entropy_skips_ = 0;    // (scan_entropy_floor) scans whose choice it changed
   static constexpr double kAlignLineAgreeDeg = 20.0;  // the lines' heading this far from the glance's: scan
   int align_round_ = 0;
