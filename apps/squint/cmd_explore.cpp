@@ -88,6 +88,8 @@ struct ExplorerVariants {
   double scan_wall_entropy = 0.0;
   // Keep off a wall the lines show nearer than this (metres; ExplorerOptions::wall_keep_m; 0: off).
   double wall_keep_m = 0.0;
+  // ...leaving out lines nearer than this (metres; ExplorerOptions::wall_keep_min_m; 0: none).
+  double wall_keep_min_m = 0.0;
   // An opening beside a junction whose side was judged a wall is looked at (ExplorerOptions::opening_beside_wall_node; off).
   bool opening_beside_wall_node = false;
   // The branch a stop's node was entered by is explored only when the robot came along it
@@ -216,6 +218,7 @@ struct ExplorerVariants {
     ro.explorer.scan_entropy_floor = scan_entropy_floor;
     ro.explorer.scan_wall_entropy = scan_wall_entropy;
     ro.explorer.wall_keep_m = wall_keep_m;
+    ro.explorer.wall_keep_min_m = wall_keep_min_m;
     ro.explorer.opening_beside_wall_node = opening_beside_wall_node;
     ro.explorer.arrival_min_travel_m = arrival_min_travel_m;
     ro.explorer.shift_stall_s = shift_stall_s;
@@ -319,6 +322,10 @@ struct ExplorerVariants {
                     text("A scan in place does not set off along a direction of its axis that the memory finds free to the scan's full reach (nothing ranged there) when its glance entropy is below this fraction of the highest of the four: a door up close read as a corridor view and, its near columns forgotten, as the only free direction; a run whose scans never lose their choice to this is the run without it step for step (summary.json counts the scans it changed as scan_entropy_skips; 0: off; 0.9 by default since session 45; docs/explore.md, sessions 43 and 45)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--wall-keep-min", wall_keep_min_m,
+                    text("With --wall-keep: a line nearer to the robot's centre than this (metres) is left out, as no wall can stand there while the robot touches nothing (a flat sheet's or a chair's base line read as a wall 0.18 m away; 0: none left out, the default; docs/explore.md, session 47)"))
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 2.0));
     cmd->add_option("--scan-wall-entropy", scan_wall_entropy,
                     text("A scan in place does not set off along a direction of its axis whose glance entropy is below this fraction of the highest of the four, whatever the memory's free travel there, unless all four are: a brick wall 0.4 m away has a wall's entropy while its mortar courses range it metres off (summary.json counts the scans it changed as scan_wall_entropy_skips; 0: off, the default; docs/explore.md, session 47)"))
         ->capture_default_str()

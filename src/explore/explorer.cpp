@@ -180,6 +180,7 @@ std::string ExplorerOptions::Validate() const {
   if (!NonNegative(wall_line_min_diff_deg)) return "wall_line_min_diff_deg must be >= 0";
   if (!NonNegative(wall_line_free_m)) return "wall_line_free_m must be >= 0";
   if (!NonNegative(wall_keep_m) || wall_keep_m > 2.0) return "wall_keep_m must be in [0, 2]";
+  if (!NonNegative(wall_keep_min_m) || wall_keep_min_m > 2.0) return "wall_keep_min_m must be in [0, 2]";
   if (!NonNegative(wall_keep_gain_deg_per_m)) return "wall_keep_gain_deg_per_m must be >= 0";
   if (!NonNegative(wall_keep_max_deg) || wall_keep_max_deg > 45.0) return "wall_keep_max_deg must be in [0, 45]";
   if (!NonNegative(wall_keep_gate_deg) || wall_keep_gate_deg > 45.0) return "wall_keep_gate_deg must be in [0, 45]";
@@ -1158,6 +1159,7 @@ bool Explorer::WallKeep(const Percept& p, double* target_rel_axis) {
   for (int i = 0; i < r.lines; ++i) {
     const Eigen::Vector2d on_line = r.odom_T_robot.Translation() + r.offsets_m[i] * n_read;
     const double d = n.dot(on_line - p.odom_T_robot.Translation());
+    if (std::abs(d) < opt_.wall_keep_min_m) continue;
     if (std::abs(d) < std::abs(nearest)) nearest = d;
   }
   if (!(std::abs(nearest) < opt_.wall_keep_m)) return false;

@@ -1152,4 +1152,25 @@ TEST(ExploreCli, ScanWallEntropyKeepsALookAroundOffABrickWallUpClose) {
   std::filesystem::remove_all(dir);
 }
 
+// The obstacle course's start 7 of seed 67 with --wall-keep 0.45: setting off at 153.5 s beside the
+// chair at (8.5, -1.2), the walls' lines' parallel line lay 0.18 m to the right of the robot's
+// centre (a flat line on the floor: no wall stands inside the disc while it touches nothing), the
+// rule turned the robot 21° left and it met the chair at 155.1 s. With --wall-keep-min 0.25 such
+// a line is left out and the run meets nothing; corridor-2 97/2's wall, 0.35 m away, is still kept
+// off.
+TEST(ExploreCli, WallKeepLeavesOutALineInsideTheDisc) {
+  const auto dir = TempDir("wall-keep-min");
+  const std::string oc = "--world obstacle-course --seed 67 --eval-start 7 --minutes 2.6 --wall-keep 0.45";
+  const nlohmann::json off = ExploreSummary(dir / "off", oc);
+  EXPECT_GT(off["collisions"].get<long>(), 0);
+  EXPECT_EQ(off["first_hit"].get<std::string>(), "obstacles[3] (chair)");
+  EXPECT_GT(off["wall_keep_frames"].get<long>(), 0);
+  const nlohmann::json on = ExploreSummary(dir / "on", oc + " --wall-keep-min 0.25");
+  EXPECT_EQ(on["collisions"].get<long>(), 0);
+  const nlohmann::json c2 = ExploreSummary(dir / "c2", "--world corridor-2 --seed 97 --eval-start 2 --minutes 0.7 --wall-keep 0.45 --wall-keep-min 0.25");
+  EXPECT_EQ(c2["collisions"].get<long>(), 0);
+  EXPECT_GT(c2["wall_keep_frames"].get<long>(), 0);
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace

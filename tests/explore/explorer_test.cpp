@@ -1841,6 +1841,15 @@ TEST(Explorer, OptionsValidateNamesTheField) {
   }
   {
     ExplorerOptions o;
+    o.wall_keep_min_m = -0.1;
+    EXPECT_NE(o.Validate().find("wall_keep_min_m"), std::string::npos);
+    o.wall_keep_min_m = 2.5;
+    EXPECT_NE(o.Validate().find("wall_keep_min_m"), std::string::npos);
+    o.wall_keep_min_m = 0.25;
+    EXPECT_TRUE(o.Validate().empty());
+  }
+  {
+    ExplorerOptions o;
     o.scan_wall_entropy = 1.5;
     EXPECT_NE(o.Validate().find("scan_wall_entropy"), std::string::npos);
     o.scan_wall_entropy = -0.1;
