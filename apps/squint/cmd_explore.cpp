@@ -323,11 +323,11 @@ struct ExplorerVariants {
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--wall-keep-min", wall_keep_min_m,
-                    text("With --wall-keep: a line nearer to the robot's centre than this (metres) is left out, as no wall can stand there while the robot touches nothing (a flat sheet's or a chair's base line read as a wall 0.18 m away; 0: none left out, the default; docs/explore.md, session 47)"))
+                    text("With --wall-keep: a line nearer to the robot's centre than this (metres) is left out, as no wall can stand there while the robot touches nothing (a line on the floor read as a wall 0.18 m away turned the robot into a chair; 0: none left out, the default; docs/explore.md, session 47)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 2.0));
     cmd->add_option("--scan-wall-entropy", scan_wall_entropy,
-                    text("A scan in place does not set off along a direction of its axis whose glance entropy is below this fraction of the highest of the four, whatever the memory's free travel there, unless all four are: a brick wall 0.4 m away has a wall's entropy while its mortar courses range it metres off (summary.json counts the scans it changed as scan_wall_entropy_skips; 0: off, the default; docs/explore.md, session 47)"))
+                    text("A scan in place does not set off along a direction of its axis whose glance entropy is below this fraction of the highest of the four, whatever the memory's free travel there, while another (not kept out by --scan-entropy-floor) is left: a brick wall 0.4 m away has a wall's entropy while its mortar courses range it metres off (summary.json counts the scans it changed as scan_wall_entropy_skips; 0: off, the default; docs/explore.md, session 47)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("--opening-beside-wall-node,!--no-opening-beside-wall-node", opening_beside_wall_node,

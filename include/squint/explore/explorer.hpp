@@ -95,7 +95,8 @@ struct ExplorerOptions {
   // --scan-entropy-floor R`; docs/explore.md, sessions 43 and 45. 0.9 since session 45 (0: off).
   double scan_entropy_floor = 0.9;
   // A scan takes no axis direction whose glance entropy is below this fraction of the best of the
-  // four, whatever its free travel, unless every direction is below it (0: off, the default). A
+  // four, whatever its free travel, while another direction (not skipped by scan_entropy_floor) is
+  // left (0: off, the default). A
   // brick wall 0.4 m away gives the glance a wall's low entropy (0.63 of the best) while its mortar
   // courses, taken for floor boundaries, range it 1.2-1.5 m off: the free travel then outscored the
   // directions the near walls and an axis 20° off left 0.25-0.3 m of (corridor-9's starts 4 of
@@ -294,9 +295,9 @@ struct ExplorerOptions {
   double wall_keep_m = 0.0;
   double wall_keep_gate_deg = 15.0;
   // A line nearer to the robot's centre than this (metres) is left out: no wall stands there while
-  // the disc touches nothing (0: none left out). A flat sheet's or a chair's base line 0.18 m to the
-  // right, read as the main line's parallel, turned the robot 21° left into the chair (the obstacle
-  // course's start 7 of seed 67, with wall_keep_min_m 0). `squint explore --wall-keep-min`.
+  // the disc touches nothing (0: none left out). A line on the floor 0.18 m to the right, read as
+  // the main line's parallel, turned the robot 21° left into the chair (the obstacle course's start
+  // 7 of seed 67, with wall_keep_min_m 0). `squint explore --wall-keep-min`; docs/explore.md, session 47.
   double wall_keep_min_m = 0.0;
   // Only while setting off (from the start or a look around in place until trust_memory_after_m of
   // following), where the failures it is for happen: applied all along, it bounded 1,314 frames of
