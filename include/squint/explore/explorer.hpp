@@ -96,12 +96,11 @@ struct ExplorerOptions {
   double scan_entropy_floor = 0.9;
   // A scan takes no axis direction whose glance entropy is below this fraction of the best of the
   // four, whatever its free travel, while another direction (not skipped by scan_entropy_floor) is
-  // left (0: off, the default). A
-  // brick wall 0.4 m away gives the glance a wall's low entropy (0.63 of the best) while its mortar
-  // courses, taken for floor boundaries, range it 1.2-1.5 m off: the free travel then outscored the
-  // directions the near walls and an axis 20° off left 0.25-0.3 m of (corridor-9's starts 4 of
-  // seed 40 and 5 of seed 67, near the T's bar). `squint explore --scan-wall-entropy R`;
-  // docs/explore.md, session 47.
+  // left (0: off, the default). A brick wall 0.4 m away gives the glance a wall's low entropy (0.63
+  // of the best) while its mortar courses, taken for floor boundaries, range it 1.2-1.5 m off: the
+  // free travel then outscored the directions the near walls and an axis 20° off left 0.25-0.3 m
+  // of (corridor-9's starts 4 of seed 40 and 5 of seed 67, near the T's bar). `squint explore
+  // --scan-wall-entropy R`; docs/explore.md, session 47.
   double scan_wall_entropy = 0.0;
   // The corridor axis checked against the walls the memory holds (ObstacleMemory::WallAxisMod90,
   // trusted with at least wall_axis_min_pairs pairs and wall_axis_min_strength): a scan takes the
