@@ -730,7 +730,6 @@ Command Explorer::ScanStep(const Percept& p) {
       if (LinesOverride(have_axis ? RadToDeg(std::abs(std::remainder(line_mod - axis_mod, kPi / 2))) : 90.0)) axis_mod = line_mod;
       have_axis = true;
     }
-    double best = -1.0;
     double best_yaw = scan_start_yaw_;
     if (have_axis) {
       // scan_entropy_floor: a direction the memory finds free to the scan's full reach (nothing
@@ -742,8 +741,6 @@ Command Explorer::ScanStep(const Percept& p) {
         entropy[static_cast<std::size_t>(k)] = entropy_at(WrapPi(axis_mod + k * kPi / 2));
         top_entropy = std::max(top_entropy, entropy[static_cast<std::size_t>(k)]);
       }
-      double best_any = -1.0;  // the best score without the floor, to count the scans it changed
-      bool best_any_skipped = false;
       std::array<double, 4> free{}, score{};
       std::array<bool, 4> skipped{};
       for (int k = 0; k < 4; ++k) {
@@ -762,29 +759,30 @@ Command Explorer::ScanStep(const Percept& p) {
         other_left = other_left || (!skipped[i] && !wall_view[i]);
       }
       if (!other_left) wall_view.fill(false);
-      double best_kept = -1.0;  // the choice without scan_wall_entropy, to count the scans it changed
-      double best_kept_yaw = best_yaw;
-      for (int k = 0; k < 4; ++k) {
-        const auto i = static_cast<std::size_t>(k);
-        const double yaw = WrapPi(axis_mod + k * kPi / 2);
-        if (score[i] > best_any) {
-          best_any = score[i];
-          best_any_skipped = skipped[i];
+      // The first direction of the highest score above -1 among those not left out (-1: none).
+      const auto argmax = [&score](const std::array<bool, 4>& out) {
+        int at = -1;
+        double top = -1.0;
+        for (std::size_t i = 0; i < 4; ++i) {
+          if (out[i] || !(score[i] > top)) continue;
+          top = score[i];
+          at = static_cast<int>(i);
         }
-        if (skipped[i]) continue;
-        if (score[i] > best_kept) {
-          best_kept = score[i];
-          best_kept_yaw = yaw;
-        }
-        if (wall_view[i]) continue;
-        if (score[i] > best) {
-          best = score[i];
-          best_yaw = yaw;
-        }
-      }
+        return at;
+      };
+      const auto yaw_of = [&](int k) { return k < 0 ? scan_start_yaw_ : WrapPi(axis_mod + k * kPi / 2); };
+      std::array<bool, 4> not_taken{};
+      for (std::size_t i = 0; i < 4; ++i) not_taken[i] = skipped[i] || wall_view[i];
+      const int any = argmax({});        // without the floor, to count the scans it changed
+      const int kept = argmax(skipped);  // without scan_wall_entropy, to count the scans it changed
+      const int taken = argmax(not_taken);
+      best_yaw = yaw_of(taken);
+      const bool best_any_skipped = any >= 0 && skipped[static_cast<std::size_t>(any)];
+      const double best_kept_yaw = yaw_of(kept);
       if (best_any_skipped) ++scan_entropy_skips_;
       if (best_yaw != best_kept_yaw) ++scan_wall_entropy_skips_;
     } else {
+      double best = -1.0;
       for (int i = 0; i < bins; ++i) {
         const double yaw = WrapPi(scan_start_yaw_ + (i + 0.5) * 2 * kPi / bins);
         const double h = entropy_at(yaw) + (sonar_seen_ ? 10.0 * scan_free(yaw) : 0.0);
