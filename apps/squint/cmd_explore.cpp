@@ -59,6 +59,9 @@ struct ExplorerVariants {
   // A sonar column clears the memory only up to its own reading, so the median across columns
   // does not erase a thin thing such as a chair leg (ObstacleMemoryOptions::clear_own_within_m; off).
   bool own_range_clearing = false;
+  // ...in the form that keeps what it does not clear for driving only, the judgements of walls and
+  // openings clearing as without it (ObstacleMemoryOptions::clear_own_driving_only; off).
+  bool own_range_driving = false;
   // The walls' base lines from the floor's texture steer the corridor axis
   // (ExplorerOptions::wall_line_axis_gain; on since session 17).
   bool wall_lines = true;
@@ -204,7 +207,8 @@ struct ExplorerVariants {
     ro.explorer.light_axis_gain = light_heading ? 0.05 : 0.0;
     ro.explorer.light_drift_gain = light_drift_gain;
     ro.obstacle_pipeline = obstacle_pipeline;
-    ro.explorer.memory.clear_own_within_m = own_range_clearing ? 1.2 : 0.0;
+    ro.explorer.memory.clear_own_within_m = own_range_clearing || own_range_driving ? 1.2 : 0.0;
+    ro.explorer.memory.clear_own_driving_only = own_range_driving && !own_range_clearing;
     ro.explorer.wall_line_axis_gain = wall_lines ? 0.2 : 0.0;
     ro.explorer.end_probe_memory = end_probe_memory;
     ro.explorer.wall_line_free_m = wall_line_free_m;
@@ -292,6 +296,8 @@ struct ExplorerVariants {
                   text("Run the obstacle pipeline (inverse perspective, outlines, polar map, free-gap steering) on a 256x192 frame every 12th frame while following; its advice overrides the corridor following (off by default; docs/explore.md)"));
     cmd->add_flag("--own-range-clearing,!--no-own-range-clearing", own_range_clearing,
                   text("A visual-sonar column clears the obstacle memory only up to its own reading within 1.2 m (none where it was itself blocked near), so thin things such as chair legs stay remembered (off by default; docs/explore.md, session 14)"));
+    cmd->add_flag("--own-range-driving,!--no-own-range-driving", own_range_driving,
+                  text("Own-range clearing (--own-range-clearing, which takes precedence) for driving only: what a visual-sonar column's own reading within 1.2 m does not clear stays remembered for the disc's free travel only, while the judgements of walls, ends and openings clear it as without it, so a chair leg the median voted out still stops the robot but a carpet's blocked-near columns do not close a corridor (off by default; docs/explore.md, session 48)"));
     cmd->add_flag("--wall-lines,!--no-wall-lines", wall_lines,
                   text("The walls' base lines, where the floor's texture ends in a 128x96 frame every 3rd frame, steer the corridor axis while following; measured with --end-probe-memory (on by default since session 17; docs/explore.md, sessions 15 and 17)"));
     cmd->add_flag("--end-probe-memory,!--no-end-probe-memory", end_probe_memory,

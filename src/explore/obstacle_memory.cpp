@@ -38,13 +38,14 @@ ObstacleMemory::ObstacleMemory(const ObstacleMemoryOptions& options) : options_(
   cells_.assign(static_cast<std::size_t>(options_.cells * options_.cells), Cell{});
   gathered_.reserve(cells_.size());
   gathered_range_.reserve(cells_.size());  // filled beside gathered_ on every Gather
-  if (options_.blind_points_edge_keep_driving_only) gathered_kept_.reserve(cells_.size());
+  if (options_.blind_points_edge_keep_driving_only || options_.clear_own_driving_only) gathered_kept_.reserve(cells_.size());
 }
 
 void ObstacleMemory::Clear() {
   for (Cell& c : cells_) {
     c.stamp_s = c.free_stamp_s = c.known_free_s = -1.0;
     c.soft = false;
+    c.driving_only = false;
     c.scans = 0;
     c.confirmed = false;
   }
@@ -143,6 +144,7 @@ void ObstacleMemory::Insert(const Eigen::Vector2d& p, const Eigen::Vector2d& fro
   c.p = p;
   c.stamp_s = stamp_s;
   c.soft = false;
+  c.driving_only = false;
   c.seen_range_m = (p - from).norm();
 }
 
@@ -151,6 +153,7 @@ void ObstacleMemory::InsertConfirmed(const Eigen::Vector2d& p, double stamp_s) {
   c.p = p;
   c.stamp_s = stamp_s;
   c.soft = false;
+  c.driving_only = false;
   c.scans = 1;
   c.first_from = p;
   c.confirmed = true;
@@ -171,6 +174,7 @@ void ObstacleMemory::InsertBlindRay(const Eigen::Vector2d& origin, double yaw, d
     c.p = p;
     c.stamp_s = stamp_s;
     c.soft = true;
+    c.driving_only = false;
     c.soft_keep_s = keep;
     c.seen_range_m = 0.0;
     c.scans = 0;
@@ -179,7 +183,7 @@ void ObstacleMemory::InsertBlindRay(const Eigen::Vector2d& origin, double yaw, d
 }
 
 void ObstacleMemory::ClearRay(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double seen_from_m,
-                              double stamp_s) {
+                              double stamp_s, double keep_from_m) {
   const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
   const double step = 0.5 * options_.cell_m;
   // Soft points (guesses along blocked-near rays) go wherever this ray saw the floor beyond the
@@ -197,7 +201,10 @@ void ObstacleMemory::ClearRay(const Eigen::Vector2d& origin, double yaw, double 
     const Eigen::Vector2d q = c.p - origin;
     const double along = q.dot(d);
     const double lateral = std::abs(d.x() * q.y() - d.y() * q.x());
-    if (along < to_m && lateral <= 0.02 + 0.01 * along && !(c.confirmed && !c.soft)) c.stamp_s = -1.0;
+    if (along < to_m && lateral <= 0.02 + 0.01 * along && !(c.confirmed && !c.soft)) {
+      if (along >= keep_from_m) c.driving_only = true;
+      else c.stamp_s = -1.0;
+    }
   }
 }
 
@@ -229,7 +236,7 @@ void ObstacleMemory::PointsInRect(const Pose2& frame, double s0, double s1, doub
   const Eigen::Vector2d o = frame.Translation();
   const Eigen::Vector2d d(std::cos(frame.yaw), std::sin(frame.yaw));
   for (const Cell& c : cells_) {
-    if (c.stamp_s < 0.0 || c.soft || now_s - c.stamp_s > options_.keep_seconds) continue;
+    if (c.stamp_s < 0.0 || c.soft || c.driving_only || now_s - c.stamp_s > options_.keep_seconds) continue;
     const Eigen::Vector2d q = c.p - o;
     const double s = q.dot(d);
     const double l = d.x() * q.y() - d.y() * q.x();
@@ -324,6 +331,9 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
     const bool own_limits = options_.clear_own_within_m > 0.0 && c.own_range_m < options_.clear_own_within_m &&
                             c.own_range_m < c.range_m;
     const double own_to = own_limits ? c.own_range_m - clear_margin : std::numeric_limits<double>::infinity();
+    // clear_own_driving_only: the ray is cleared in full, what lies beyond own_to kept for driving.
+    const double own_clear_to = options_.clear_own_driving_only ? std::numeric_limits<double>::infinity() : own_to;
+    const double keep_from = options_.clear_own_driving_only ? own_to : std::numeric_limits<double>::infinity();
     const Eigen::Vector2d d(std::cos(yaw), std::sin(yaw));
     // A column whose bottom rows show floor (a boundary above it, the floor up to the horizon, or
     // floor-like rows without a step): nothing stands in front of it inside the blind zone.
@@ -338,14 +348,15 @@ void ObstacleMemory::Update(const std::vector<SonarColumn>& scan, const Pose2& o
         break;
       case SonarReturn::kBoundary: {
         const double from = c.range_m >= options_.clear_blind_min_range_m ? 0.0 : near_blind_m;
-        ClearRay(o, yaw, from, std::min(c.range_m - clear_margin, own_to), near_blind_m, stamp_s);
+        ClearRay(o, yaw, from, std::min(c.range_m - clear_margin, own_clear_to), near_blind_m, stamp_s, keep_from);
         Insert(o + c.range_m * d, o, stamp_s);
         break;
       }
       case SonarReturn::kUnknown:
         break;
       case SonarReturn::kFar:
-        ClearRay(o, yaw, 0.0, std::min({c.range_m, options_.query_radius_m + options_.cell_m, own_to}), near_blind_m, stamp_s);
+        ClearRay(o, yaw, 0.0, std::min({c.range_m, options_.query_radius_m + options_.cell_m, own_clear_to}), near_blind_m,
+                 stamp_s, keep_from);
         break;
     }
   }
@@ -375,8 +386,9 @@ void ObstacleMemory::Gather(const Pose2& odom_T_robot, double stamp_s) {
         continue;
       }
       if ((c.p - o).squaredNorm() > r2) continue;
-      const bool kept_only = options_.blind_points_edge_keep_driving_only && c.soft &&
-                             stamp_s - c.stamp_s > options_.blind_points_keep_s;
+      const bool kept_only = (options_.blind_points_edge_keep_driving_only && c.soft &&
+                              stamp_s - c.stamp_s > options_.blind_points_keep_s) ||
+                             c.driving_only;
       if (kept_only) {
         gathered_kept_.push_back(c.p);
       } else {

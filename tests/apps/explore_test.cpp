@@ -1173,4 +1173,29 @@ TEST(ExploreCli, WallKeepLeavesOutALineInsideTheDisc) {
   std::filesystem::remove_all(dir);
 }
 
+
+// --own-range-driving (off by default): the defaults' two failing seeded starts in the obstacle
+// course. 30/6: set off at 126 s beside the chair at (8.5, -1.2), whose nearest leg, 4 cm thick,
+// the sonar's median across columns had voted out of the memory, and met it with the flank at
+// 127.9 s. 64/5: set off past the rotated box's corner, which the memory held 0.2 m too far, and
+// met it at 137.1 s. With what the columns' own readings do not clear kept for driving only,
+// neither meets anything in the same time.
+TEST(ExploreCli, OwnRangeDrivingKeepsAChairLegAndABoxCornerOffTheFlank) {
+  const auto dir = TempDir("own-range-driving");
+  const std::pair<std::string, std::string> starts[] = {{"--seed 30 --eval-start 6", "obstacles[3] (chair)"},
+                                                        {"--seed 64 --eval-start 5", "obstacles[5] (box)"}};
+  for (const auto& [start, hit] : starts) {
+    SCOPED_TRACE(start);
+    const std::string run = "--world obstacle-course --minutes 2.4 " + start;
+    const nlohmann::json off = ExploreSummary(dir / "off", run);
+    EXPECT_GT(off["collisions"].get<long>(), 0);
+    EXPECT_EQ(off["first_hit"].get<std::string>(), hit);
+    EXPECT_GT(off["first_collision_s"].get<double>(), 120.0);
+    const nlohmann::json on = ExploreSummary(dir / "on", run + " --own-range-driving");
+    EXPECT_EQ(on["collisions"].get<long>(), 0);
+    EXPECT_EQ(on["first_hit"].get<std::string>(), "");
+  }
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace

@@ -663,6 +663,51 @@ TEST(ObstacleMemory, OwnRangeClearingKeepsWhatTheColumnItselfSaw) {
   EXPECT_NE(bad.Validate(), "");
 }
 
+// The same post with clear_own_driving_only: what the columns' own readings keep serves driving
+// only. The disc's free travel (FreeTravel with kept_edges) stops at the post; the judgements'
+// queries (FreeTravel without kept_edges, PointsFreeTravel, the gathered points, PointsInRect)
+// see the later scan's floor as without own-range clearing. A later scan whose columns' own
+// readings reach the wall clears the post for every query.
+TEST(ObstacleMemory, OwnRangeDrivingOnlyKeepsThePostForTheDiscAlone) {
+  const CameraModel cam = SonarCamera();
+  const auto post = [](const SonarColumn& c) { return std::abs(std::sin(c.bearing_rad) * 1.0) < 0.03; };
+  ObstacleMemoryOptions opt;
+  opt.clear_own_within_m = 1.2;
+  opt.clear_own_driving_only = true;
+  ObstacleMemory mem(opt);
+  std::vector<SonarColumn> first = WallScan(cam, 2.8);
+  int post_columns = 0;
+  for (SonarColumn& c : first) {
+    c.own_range_m = c.range_m;
+    if (post(c)) c.range_m = c.own_range_m = 1.0 / std::cos(c.bearing_rad), ++post_columns;
+  }
+  ASSERT_GE(post_columns, 1);
+  mem.Update(first, Pose2{}, 0.0, 0.6);
+  mem.Gather(Pose2{}, 0.0);
+  EXPECT_NEAR(mem.PointsFreeTravel(Pose2{}, 0.0, 0.25, 5.0), 1.0 - 0.25, 0.02);  // seen: every query has it
+  for (const bool blocked : {false, true}) {
+    ObstacleMemory m = mem;
+    std::vector<SonarColumn> later = WallScan(cam, 2.8);
+    for (SonarColumn& c : later) c.own_range_m = post(c) ? (blocked ? 0.0 : 1.0 / std::cos(c.bearing_rad)) : c.range_m;
+    m.Update(later, Pose2{}, 0.1, 0.6);
+    m.Gather(Pose2{}, 0.1);
+    EXPECT_NEAR(m.FreeTravel(Pose2{}, 0.0, 0.25, 5.0), 1.0 - 0.25, 0.02) << blocked;
+    EXPECT_NEAR(m.FreeTravel(Pose2{}, 0.0, 0.25, 5.0, true, true, 0.0, 0.0, false), 2.8 - 0.25, 0.02) << blocked;
+    EXPECT_NEAR(m.PointsFreeTravel(Pose2{}, 0.0, 0.25, 5.0), 2.8 - 0.25, 0.02) << blocked;
+    EXPECT_NEAR(m.PointsFreeTravel(Pose2{}, 0.0, 0.25, 5.0, 0.0, 0.0, true), 1.0 - 0.25, 0.02) << blocked;
+    for (const Eigen::Vector2d& p : m.Gathered()) EXPECT_GT(p.x(), 2.0) << blocked;
+    std::vector<Eigen::Vector2d> in_rect;
+    m.PointsInRect(Pose2{}, 0.5, 1.5, -0.3, 0.3, 0.1, &in_rect);
+    EXPECT_TRUE(in_rect.empty()) << blocked;
+    // The columns' own readings now reach the wall: the post is gone for driving too.
+    std::vector<SonarColumn> clear = WallScan(cam, 2.8);
+    for (SonarColumn& c : clear) c.own_range_m = c.range_m;
+    m.Update(clear, Pose2{}, 0.2, 0.6);
+    m.Gather(Pose2{}, 0.2);
+    EXPECT_NEAR(m.FreeTravel(Pose2{}, 0.0, 0.25, 5.0), 2.8 - 0.25, 0.02) << blocked;
+  }
+}
+
 TEST(ObstacleMemory, WallSeenFromSeveralPositionsSurvivesAReflectionOfFloorBeyondIt) {
   // A scripted walk toward a mirror wall at x = 4: its base is seen from x = 0, 0.2, ..., 1.4 m
   // (8 scans, the same cells each time), then, nearer, the mirror shows the floor continuing to 6 m.

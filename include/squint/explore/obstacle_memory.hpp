@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -77,6 +78,13 @@ struct ObstacleMemoryOptions {
   // course's seeded starts 144 -> 153 of 160 with 1.2 m, but `default`'s 45-minute runs lost the
   // carpeted middle corridor on two of 16 seeds and met a wall on one; docs/explore.md).
   double clear_own_within_m = 0.0;
+  // With clear_own_within_m: what a column's own reading does not clear (beyond its own step,
+  // anywhere along a column itself blocked near) is cleared for the queries that judge walls and
+  // openings as without it, and kept for driving only (FreeTravel with kept_edges), as
+  // blind_points_edge_keep_driving_only keeps an edge's soft points: a chair leg the median voted
+  // out still stops the disc, but a carpet's blocked-near columns no longer close a corridor to
+  // the judgements. Off by default.
+  bool clear_own_driving_only = false;
   // A scan with at least this fraction of its columns blocked near shows a wall filling the view
   // (nothing of the floor in sight): its blockage stops forward travel even where the floor in the
   // blind zone was seen from farther back (FreeTravel's use_blocked = false). Floor "seen" through
@@ -226,6 +234,7 @@ class ObstacleMemory {
     double seen_range_m = 0.0;   // the range it was last seen from (0: soft or confirmed points)
     Eigen::Vector2d first_from = Eigen::Vector2d::Zero();  // where the first of them was taken
     bool confirmed = false;
+    bool driving_only = false;  // kept by a column's own reading only (clear_own_driving_only)
     // When this cell was last known free of anything standing (< 0: never): floor seen there, a
     // column whose floor showed from its bottom row crossing it in the blind zone, or the robot's
     // own disc on it. known_i/known_j name the cell unwrapped (the grid is toroidal).
@@ -249,15 +258,18 @@ class ObstacleMemory {
   // Soft points along a blocked-near ray where the floor was not seen.
   // `edge`: the column belongs to a near thing's edge (kept blind_points_edge_keep_s).
   void InsertBlindRay(const Eigen::Vector2d& origin, double yaw, double to_m, double stamp_s, bool edge);
-  // Removes points along the ray from from_m to to_m; marks floor seen from seen_from_m on.
-  void ClearRay(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double seen_from_m, double stamp_s);
+  // Removes points along the ray from from_m to to_m; marks floor seen from seen_from_m on. Points
+  // from keep_from_m on are kept for driving only (clear_own_driving_only) instead of removed.
+  void ClearRay(const Eigen::Vector2d& origin, double yaw, double from_m, double to_m, double seen_from_m, double stamp_s,
+                double keep_from_m = std::numeric_limits<double>::infinity());
 
   ObstacleMemoryOptions options_;
   std::vector<Cell> cells_;
   std::vector<Eigen::Vector2d> gathered_;
   std::vector<double> gathered_range_;  // Cell::seen_range_m of each gathered point
   // With blind_points_edge_keep_driving_only: the gathered soft points older than
-  // blind_points_keep_s (an edge's, kept longer), which only driving queries see.
+  // blind_points_keep_s (an edge's, kept longer), which only driving queries see; with
+  // clear_own_driving_only, the points kept for driving only too.
   std::vector<Eigen::Vector2d> gathered_kept_;
   // The latest scan's blocked-near columns (odometry yaws), where it was taken, its blind range.
   std::vector<double> blocked_yaws_;
