@@ -1173,7 +1173,6 @@ TEST(ExploreCli, WallKeepLeavesOutALineInsideTheDisc) {
   std::filesystem::remove_all(dir);
 }
 
-
 // --own-range-driving (off by default): the defaults' two failing seeded starts in the obstacle
 // course. 30/6: set off at 126 s beside the chair at (8.5, -1.2), whose nearest leg, 4 cm thick,
 // the sonar's median across columns had voted out of the memory, and met it with the flank at

@@ -629,6 +629,9 @@ TEST(ObstacleMemory, FloorSeenLaterClearsAStaleBoundary) {
   EXPECT_NEAR(mem.FreeTravel(Pose2{}, 0.0, 0.35, 5.0), 2.8 - 0.35, 0.02);
 }
 
+// The columns that look along a post 3 cm wide, 1.0 m straight ahead.
+bool OnPostAhead(const SonarColumn& c) { return std::abs(std::sin(c.bearing_rad) * 1.0) < 0.03; }
+
 // A post remembered 1.0 m ahead; a later scan's median reads floor to a wall at 2.8 m in every
 // column, but the columns along the post read it themselves (own_range_m 1.0 m) or were blocked
 // near. Without clear_own_within_m the later scan erases the post; with it the post still stops
@@ -642,13 +645,13 @@ TEST(ObstacleMemory, OwnRangeClearingKeepsWhatTheColumnItselfSaw) {
     std::vector<SonarColumn> first = WallScan(cam, 2.8);
     for (SonarColumn& c : first) {
       c.own_range_m = c.range_m;
-      if (std::abs(std::sin(c.bearing_rad) * 1.0) < 0.03) c.range_m = c.own_range_m = 1.0 / std::cos(c.bearing_rad);
+      if (OnPostAhead(c)) c.range_m = c.own_range_m = 1.0 / std::cos(c.bearing_rad);
     }
     mem.Update(first, Pose2{}, 0.0, 0.6);
     std::vector<SonarColumn> later = WallScan(cam, 2.8);
     for (SonarColumn& c : later) {
       c.own_range_m = c.range_m;
-      if (std::abs(std::sin(c.bearing_rad) * 1.0) < 0.03) c.own_range_m = blocked ? 0.0 : 1.0 / std::cos(c.bearing_rad);
+      if (OnPostAhead(c)) c.own_range_m = blocked ? 0.0 : 1.0 / std::cos(c.bearing_rad);
     }
     mem.Update(later, Pose2{}, 0.1, 0.6);
     mem.Gather(Pose2{}, 0.1);
@@ -670,7 +673,6 @@ TEST(ObstacleMemory, OwnRangeClearingKeepsWhatTheColumnItselfSaw) {
 // readings reach the wall clears the post for every query.
 TEST(ObstacleMemory, OwnRangeDrivingOnlyKeepsThePostForTheDiscAlone) {
   const CameraModel cam = SonarCamera();
-  const auto post = [](const SonarColumn& c) { return std::abs(std::sin(c.bearing_rad) * 1.0) < 0.03; };
   ObstacleMemoryOptions opt;
   opt.clear_own_within_m = 1.2;
   opt.clear_own_driving_only = true;
@@ -679,7 +681,7 @@ TEST(ObstacleMemory, OwnRangeDrivingOnlyKeepsThePostForTheDiscAlone) {
   int post_columns = 0;
   for (SonarColumn& c : first) {
     c.own_range_m = c.range_m;
-    if (post(c)) c.range_m = c.own_range_m = 1.0 / std::cos(c.bearing_rad), ++post_columns;
+    if (OnPostAhead(c)) c.range_m = c.own_range_m = 1.0 / std::cos(c.bearing_rad), ++post_columns;
   }
   ASSERT_GE(post_columns, 1);
   mem.Update(first, Pose2{}, 0.0, 0.6);
@@ -688,7 +690,7 @@ TEST(ObstacleMemory, OwnRangeDrivingOnlyKeepsThePostForTheDiscAlone) {
   for (const bool blocked : {false, true}) {
     ObstacleMemory m = mem;
     std::vector<SonarColumn> later = WallScan(cam, 2.8);
-    for (SonarColumn& c : later) c.own_range_m = post(c) ? (blocked ? 0.0 : 1.0 / std::cos(c.bearing_rad)) : c.range_m;
+    for (SonarColumn& c : later) c.own_range_m = OnPostAhead(c) ? (blocked ? 0.0 : 1.0 / std::cos(c.bearing_rad)) : c.range_m;
     m.Update(later, Pose2{}, 0.1, 0.6);
     m.Gather(Pose2{}, 0.1);
     EXPECT_NEAR(m.FreeTravel(Pose2{}, 0.0, 0.25, 5.0), 1.0 - 0.25, 0.02) << blocked;
