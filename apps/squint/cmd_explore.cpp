@@ -60,8 +60,8 @@ struct ExplorerVariants {
   // does not erase a thin thing such as a chair leg (ObstacleMemoryOptions::clear_own_within_m; off).
   bool own_range_clearing = false;
   // ...in the form that keeps what it does not clear for driving only, the judgements of walls and
-  // openings clearing as without it (ObstacleMemoryOptions::clear_own_driving_only; off).
-  bool own_range_driving = false;
+  // openings clearing as without it (ObstacleMemoryOptions::clear_own_driving_only; on since session 49).
+  bool own_range_driving = true;
   // The walls' base lines from the floor's texture steer the corridor axis
   // (ExplorerOptions::wall_line_axis_gain; on since session 17).
   bool wall_lines = true;
@@ -87,12 +87,12 @@ struct ExplorerVariants {
   double wall_line_align_over_deg = 25.0;
   // A scan takes no direction free to its reach whose entropy is below this fraction of the best of the four (ExplorerOptions::scan_entropy_floor; 0: off; 0.9 since session 45).
   double scan_entropy_floor = 0.9;
-  // A scan takes no direction with a wall's entropy (below this fraction of the best; ExplorerOptions::scan_wall_entropy; 0: off).
-  double scan_wall_entropy = 0.0;
-  // Keep off a wall the lines show nearer than this (metres; ExplorerOptions::wall_keep_m; 0: off).
-  double wall_keep_m = 0.0;
-  // ...leaving out lines nearer than this (metres; ExplorerOptions::wall_keep_min_m; 0: none).
-  double wall_keep_min_m = 0.0;
+  // A scan takes no direction with a wall's entropy (below this fraction of the best; ExplorerOptions::scan_wall_entropy; 0: off; 0.7 since session 49).
+  double scan_wall_entropy = 0.7;
+  // Keep off a wall the lines show nearer than this (metres; ExplorerOptions::wall_keep_m; 0: off; 0.45 since session 49).
+  double wall_keep_m = 0.45;
+  // ...leaving out lines nearer than this (metres; ExplorerOptions::wall_keep_min_m; 0: none; 0.25 since session 49).
+  double wall_keep_min_m = 0.25;
   // An opening beside a junction whose side was judged a wall is looked at (ExplorerOptions::opening_beside_wall_node; off).
   bool opening_beside_wall_node = false;
   // The branch a stop's node was entered by is explored only when the robot came along it
@@ -297,7 +297,7 @@ struct ExplorerVariants {
     cmd->add_flag("--own-range-clearing,!--no-own-range-clearing", own_range_clearing,
                   text("A visual-sonar column clears the obstacle memory only up to its own reading within 1.2 m (none where it was itself blocked near), so thin things such as chair legs stay remembered (off by default; docs/explore.md, session 14)"));
     cmd->add_flag("--own-range-driving,!--no-own-range-driving", own_range_driving,
-                  text("Own-range clearing (--own-range-clearing, which takes precedence) for driving only: what a visual-sonar column's own reading within 1.2 m does not clear stays remembered for the disc's free travel only, while the judgements of walls, ends and openings clear it as without it, so a chair leg the median voted out still stops the robot but a carpet's blocked-near columns do not close a corridor (off by default; docs/explore.md, session 48)"));
+                  text("Own-range clearing (--own-range-clearing, which takes precedence) for driving only: what a visual-sonar column's own reading within 1.2 m does not clear stays remembered for the disc's free travel only, while the judgements of walls, ends and openings clear it as without it, so a chair leg the median voted out still stops the robot but a carpet's blocked-near columns do not close a corridor (on by default since session 49; docs/explore.md, sessions 48 and 49)"));
     cmd->add_flag("--wall-lines,!--no-wall-lines", wall_lines,
                   text("The walls' base lines, where the floor's texture ends in a 128x96 frame every 3rd frame, steer the corridor axis while following; measured with --end-probe-memory (on by default since session 17; docs/explore.md, sessions 15 and 17)"));
     cmd->add_flag("--end-probe-memory,!--no-end-probe-memory", end_probe_memory,
@@ -321,7 +321,7 @@ struct ExplorerVariants {
         ->capture_default_str()
         ->check(CLI::Range(0.0, 45.0));
     cmd->add_option("--wall-keep", wall_keep_m,
-                    text("With --wall-lines: while setting off (from the start or a look around in place, for the first 1.6 m of following), a wall line read in the last 0.5 s within 15 degrees of the axis and nearer to the robot's centre than this (metres) bounds the heading to a few degrees away from the line's own direction, whatever the axis held says: near a wall the glance's heading is biased and the visual sonar may see no floor edge (summary.json counts the frames it bounded as wall_keep_frames; 0: off, the default; docs/explore.md, session 46)"))
+                    text("With --wall-lines: while setting off (from the start or a look around in place, for the first 1.6 m of following), a wall line read in the last 0.5 s within 15 degrees of the axis and nearer to the robot's centre than this (metres) bounds the heading to a few degrees away from the line's own direction, whatever the axis held says: near a wall the glance's heading is biased and the visual sonar may see no floor edge (summary.json counts the frames it bounded as wall_keep_frames; 0: off; 0.45 by default since session 49; docs/explore.md, sessions 46, 47 and 49)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 2.0));
     cmd->add_option("--scan-entropy-floor", scan_entropy_floor,
@@ -329,11 +329,11 @@ struct ExplorerVariants {
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--wall-keep-min", wall_keep_min_m,
-                    text("With --wall-keep: a line nearer to the robot's centre than this (metres) is left out, as no wall can stand there while the robot touches nothing (a line on the floor read as a wall 0.18 m away turned the robot into a chair; 0: none left out, the default; docs/explore.md, session 47)"))
+                    text("With --wall-keep: a line nearer to the robot's centre than this (metres) is left out, as no wall can stand there while the robot touches nothing (a line on the floor read as a wall 0.18 m away turned the robot into a chair; 0: none left out; 0.25 by default since session 49; docs/explore.md, sessions 47 and 49)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 2.0));
     cmd->add_option("--scan-wall-entropy", scan_wall_entropy,
-                    text("A scan in place does not set off along a direction of its axis whose glance entropy is below this fraction of the highest of the four, whatever the memory's free travel there, while another (not kept out by --scan-entropy-floor) is left: a brick wall 0.4 m away has a wall's entropy while its mortar courses range it metres off (summary.json counts the scans it changed as scan_wall_entropy_skips; 0: off, the default; docs/explore.md, session 47)"))
+                    text("A scan in place does not set off along a direction of its axis whose glance entropy is below this fraction of the highest of the four, whatever the memory's free travel there, while another (not kept out by --scan-entropy-floor) is left: a brick wall 0.4 m away has a wall's entropy while its mortar courses range it metres off (summary.json counts the scans it changed as scan_wall_entropy_skips; 0: off; 0.7 by default since session 49; docs/explore.md, sessions 47 and 49)"))
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("--opening-beside-wall-node,!--no-opening-beside-wall-node", opening_beside_wall_node,

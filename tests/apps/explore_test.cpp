@@ -83,8 +83,8 @@ TEST(ExploreCli, EvalExploreWritesTheRunsTableAndTheAxisFigures) {
     EXPECT_GE(std::stol(cells[20]), 0) << line;  // near_edges: a count
     EXPECT_GE(std::stol(cells[21]), 0) << line;  // align_line_overrides: a count
     EXPECT_GE(std::stol(cells[22]), 0) << line;  // scan_entropy_skips: a count
-    EXPECT_EQ(cells[23], "0") << line;  // wall_keep_frames: --wall-keep is off by default
-    EXPECT_EQ(cells[24], "0") << line;  // scan_wall_entropy_skips: --scan-wall-entropy is off by default
+    EXPECT_GE(std::stol(cells[23]), 0) << line;  // wall_keep_frames: a count
+    EXPECT_GE(std::stol(cells[24]), 0) << line;  // scan_wall_entropy_skips: a count
     if (cells[10] == "0") {
       EXPECT_EQ(cells[19], "0") << line;  // no contact felt without a collision (contacts_felt)
     }
@@ -166,8 +166,17 @@ TEST(ExploreCli, ObstaclePipelineSwitch) {
 // --blocked-min-range and --settled-blocked-min-range at their defaults), but for the one named
 // (so a test of one replays its case as it was found, with the others as they were then);
 // LaterRulesOffBut("") switches them all off. Session 39's three defaults are a list of their own,
-// which Session39OffBut reads alone, and so are session 45's (kBeforeSession45).
+// which Session39OffBut reads alone, and so are session 45's (kBeforeSession45) and session 49's
+// (kBeforeSession49).
 using Rules = std::vector<std::pair<std::string, std::string>>;  // a switch's name, its "off" flags
+
+const Rules& Session49Rules() {
+  static const Rules rules = {{"--wall-keep", " --wall-keep 0"},
+                              {"--wall-keep-min", " --wall-keep-min 0"},
+                              {"--scan-wall-entropy", " --scan-wall-entropy 0"},
+                              {"--own-range-driving", " --no-own-range-driving"}};
+  return rules;
+}
 
 const Rules& Session45Rules() {
   static const Rules rules = {{"--wall-line-align-over", " --wall-line-align-over 0"},
@@ -208,6 +217,7 @@ const Rules& LaterRules() {
                                                                   {"--feel-contacts", " --no-feel-contacts"}};
     r.insert(r.end(), Session39Rules().begin(), Session39Rules().end());
     r.insert(r.end(), Session45Rules().begin(), Session45Rules().end());
+    r.insert(r.end(), Session49Rules().begin(), Session49Rules().end());
     return r;
   }();
   return rules;
@@ -227,10 +237,16 @@ std::string LaterRulesOffBut(const std::string& keep) { return RulesOffBut(Later
 // --blind-points-edge-keep-driving-only) off, but for the one named.
 std::string Session39OffBut(const std::string& keep) { return RulesOffBut(Session39Rules(), keep); }
 
+// Session 49's four defaults (--wall-keep 0.45, --wall-keep-min 0.25, --scan-wall-entropy 0.7 and
+// --own-range-driving) off: the explorer as it was before them. They avoid several of the failures
+// below by another route.
+const std::string kBeforeSession49 = RulesOffBut(Session49Rules(), "");
+
 // Session 45's three defaults (--wall-line-align-over 25, --scan-entropy-floor 0.9 and
-// --shift-trusts-points 1.2) off: the explorer as it was before them. They avoid several of the
-// failures below by another route (mostly the walls' lines' axis at a set-off far off it).
-const std::string kBeforeSession45 = RulesOffBut(Session45Rules(), "");
+// --shift-trusts-points 1.2) off, and session 49's: the explorer as it was before them. They avoid
+// several of the failures below by another route (mostly the walls' lines' axis at a set-off far
+// off it).
+const std::string kBeforeSession45 = RulesOffBut(Session45Rules(), "") + kBeforeSession49;
 
 // All three off, and session 45's: the explorer as it was when the failures below were found, most
 // of which these defaults avoid by another route.
@@ -305,7 +321,7 @@ TEST(ExploreCli, WallLinesHoldTheAxisWhereTheWallsHaveTheFloorsGrey) {
 TEST(ExploreCli, AStartInAJunctionLeavesTheBranchBehindUnknownAndAStalledShiftEnds) {
   const auto dir = TempDir("junction-start");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world corridor-1 --seed 1 --eval-start 6 --minutes 1.7 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + flag);
+    return ExploreSummary(dir / name, "--world corridor-1 --seed 1 --eval-start 6 --minutes 1.7 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + kBeforeSession49 + flag);
   };
   // Session 21's --blocked-hold and session 30's --feel-contacts, off as when the case was found
   // (the first keeps the robot off the wall too, the second backs it off the wall at the first contact).
@@ -471,7 +487,7 @@ TEST(ExploreCli, BrickLinesHeldOverASecondKeepTheRobotOffABrickCorner) {
 TEST(ExploreCli, TheRobotCreepsTowardAPlaceTheMapHoldsADeadEnd) {
   const auto dir = TempDir("known-end-slow");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world corridor-5 --seed 6 --eval-start 2 --minutes 3 --blocked-hold 0 --blocked-min-range 0.6 --setoff-blocked-min-range 0 --no-mirror-watch --far-floor-from 0" + flag);
+    return ExploreSummary(dir / name, "--world corridor-5 --seed 6 --eval-start 2 --minutes 3 --blocked-hold 0 --blocked-min-range 0.6 --setoff-blocked-min-range 0 --no-mirror-watch --far-floor-from 0" + kBeforeSession49 + flag);
   };
   const nlohmann::json off = summary("off", " --known-end-slow 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -498,7 +514,7 @@ TEST(ExploreCli, TheRobotCreepsTowardAPlaceTheMapHoldsADeadEnd) {
 // session 36: with its default of 2 the run without --mirror-watch meets nothing either.)
 TEST(ExploreCli, TheRobotKnowsAMirrorByItsOwnReflection) {
   const auto dir = TempDir("mirror-watch");
-  const std::string start = "--world corridor-5 --seed 23 --eval-start 0 --minutes 2.7 --far-floor-from 0";
+  const std::string start = "--world corridor-5 --seed 23 --eval-start 0 --minutes 2.7 --far-floor-from 0" + kBeforeSession49;
   const nlohmann::json off = ExploreSummary(dir / "off", start + " --no-mirror-watch");
   EXPECT_GT(off["collisions"].get<long>(), 0);
   EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
@@ -609,7 +625,7 @@ TEST(ExploreCli, ACornerThatLeftTheViewStillHoldsWhereTheRobotStands) {
 TEST(ExploreCli, ADarkBinFillingTheViewToTheHorizonIsNoFloorRunningOn) {
   const auto dir = TempDir("far-floor-diff");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world obstacle-course --seed 59 --eval-start 5 --minutes 0.7 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + flag);
+    return ExploreSummary(dir / name, "--world obstacle-course --seed 59 --eval-start 5 --minutes 0.7 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + kBeforeSession49 + flag);
   };
   const nlohmann::json off = summary("off", " --far-floor-diff 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -775,7 +791,7 @@ TEST(ExploreCli, TheNearerSectorIsForSettingOffNotForFollowingACorridor) {
 TEST(ExploreCli, APlainDoorFillingTheViewIsNotTakenForTheFloor) {
   const auto dir = TempDir("blind-texture-keep-ref");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world corridor-6 --seed 12 --eval-start 4 --minutes 1.5 --blocked-hold 0" + flag);
+    return ExploreSummary(dir / name, "--world corridor-6 --seed 12 --eval-start 4 --minutes 1.5 --blocked-hold 0" + kBeforeSession49 + flag);
   };
   const nlohmann::json off = summary("off", " --no-blind-texture-keep-ref");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -799,7 +815,7 @@ TEST(ExploreCli, SmootherAndSmootherViewsOfADoorKeepTheFloorsTexture) {
   const auto dir = TempDir("blind-texture-keep-peak");
   auto summary = [&](const std::string& name, const std::string& flag) {
     return ExploreSummary(dir / name, "--world corridor-0 --seed 8 --eval-start 2 --minutes 1.6 --no-blocked-hold-in-view"
-                                            " --side-wall-cluster 0 --blocked-min-range 0.6 --setoff-blocked-min-range 0 --no-floor-edge-band-mouth" + flag);
+                                            " --side-wall-cluster 0 --blocked-min-range 0.6 --setoff-blocked-min-range 0 --no-floor-edge-band-mouth" + kBeforeSession49 + flag);
   };
   const nlohmann::json off = summary("off", " --no-blind-texture-keep-peak");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -845,7 +861,7 @@ TEST(ExploreCli, AFloorEdgeBandSpanningOnlyTheMouthKeepsTheCorridorsCorner) {
 TEST(ExploreCli, TheUnknownFloorGuardActsOnlyAtTheStartOnTheBinsFlankContact) {
   const auto dir = TempDir("guard-unknown");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world obstacle-course --seed 59 --eval-start 5 --minutes 0.7 --far-floor-diff 0 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + flag);  // as found: before session 26's far-floor rule and sessions 27-28's sectors
+    return ExploreSummary(dir / name, "--world obstacle-course --seed 59 --eval-start 5 --minutes 0.7 --far-floor-diff 0 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + kBeforeSession49 + flag);  // as found: before session 26's far-floor rule and sessions 27-28's sectors
   };
   const nlohmann::json off = summary("off", " --guard-unknown 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -913,7 +929,7 @@ TEST(ExploreCli, ABrickWallsLinesInTheProbeScanKeepTheSideClosed) {
 TEST(ExploreCli, BlockedNearColumnsHeldKeepTheRobotOffAChair) {
   const auto dir = TempDir("blocked-hold");
   auto summary = [&](const std::string& name, const std::string& flag) {
-    return ExploreSummary(dir / name, "--world obstacle-course --seed 24 --eval-start 1 --minutes 0.25 --far-floor-diff 0 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + flag);  // as found: before session 26's far-floor rule and sessions 27-28's sectors
+    return ExploreSummary(dir / name, "--world obstacle-course --seed 24 --eval-start 1 --minutes 0.25 --far-floor-diff 0 --blocked-min-range 0.6 --setoff-blocked-min-range 0" + kBeforeSession49 + flag);  // as found: before session 26's far-floor rule and sessions 27-28's sectors
   };
   const nlohmann::json off = summary("off", " --blocked-hold 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
@@ -1119,8 +1135,9 @@ TEST(ExploreCli, ScanEntropyFloorAndShiftTrustsPointsClearTheirStarts) {
 // lines, which measure that wall, bound its heading and it meets nothing.
 TEST(ExploreCli, WallKeepClearsASetOffBesideAWallOfTheFloorsGrey) {
   const auto dir = TempDir("wall-keep");
-  const std::string start = "--world corridor-2 --seed 97 --eval-start 2 --minutes 0.7";
-  const nlohmann::json off = ExploreSummary(dir / "off", start);
+  // As found: the defaults of sessions 45-48.
+  const std::string start = "--world corridor-2 --seed 97 --eval-start 2 --minutes 0.7" + RulesOffBut(Session49Rules(), "--wall-keep");
+  const nlohmann::json off = ExploreSummary(dir / "off", start + " --wall-keep 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
   EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
   EXPECT_EQ(off["wall_keep_frames"].get<long>(), 0);
@@ -1138,10 +1155,12 @@ TEST(ExploreCli, WallKeepClearsASetOffBesideAWallOfTheFloorsGrey) {
 // does not take it and neither run meets anything in that time.
 TEST(ExploreCli, ScanWallEntropyKeepsALookAroundOffABrickWallUpClose) {
   const auto dir = TempDir("scan-wall-entropy");
-  for (const std::string& start : {std::string("--world corridor-9 --seed 40 --eval-start 4 --minutes 0.6"),
-                                   std::string("--world corridor-9 --seed 67 --eval-start 5 --minutes 0.75 --wall-keep 0.45")}) {
+  // As found: the defaults of sessions 45-48 (with --wall-keep 0.45 alone for the second).
+  for (const std::string& start :
+       {std::string("--world corridor-9 --seed 40 --eval-start 4 --minutes 0.6 --wall-keep 0 --wall-keep-min 0 --no-own-range-driving"),
+        std::string("--world corridor-9 --seed 67 --eval-start 5 --minutes 0.75 --wall-keep 0.45 --wall-keep-min 0 --no-own-range-driving")}) {
     SCOPED_TRACE(start);
-    const nlohmann::json off = ExploreSummary(dir / "off", start);
+    const nlohmann::json off = ExploreSummary(dir / "off", start + " --scan-wall-entropy 0");
     EXPECT_GT(off["collisions"].get<long>(), 0);
     EXPECT_EQ(off["first_hit"].get<std::string>(), "wall");
     EXPECT_EQ(off["scan_wall_entropy_skips"].get<long>(), 0);
@@ -1160,14 +1179,14 @@ TEST(ExploreCli, ScanWallEntropyKeepsALookAroundOffABrickWallUpClose) {
 // off.
 TEST(ExploreCli, WallKeepLeavesOutALineInsideTheDisc) {
   const auto dir = TempDir("wall-keep-min");
-  const std::string oc = "--world obstacle-course --seed 67 --eval-start 7 --minutes 2.6 --wall-keep 0.45";
-  const nlohmann::json off = ExploreSummary(dir / "off", oc);
+  const std::string oc = "--world obstacle-course --seed 67 --eval-start 7 --minutes 2.6 --wall-keep 0.45 --scan-wall-entropy 0 --no-own-range-driving";
+  const nlohmann::json off = ExploreSummary(dir / "off", oc + " --wall-keep-min 0");
   EXPECT_GT(off["collisions"].get<long>(), 0);
   EXPECT_EQ(off["first_hit"].get<std::string>(), "obstacles[3] (chair)");
   EXPECT_GT(off["wall_keep_frames"].get<long>(), 0);
   const nlohmann::json on = ExploreSummary(dir / "on", oc + " --wall-keep-min 0.25");
   EXPECT_EQ(on["collisions"].get<long>(), 0);
-  const nlohmann::json c2 = ExploreSummary(dir / "c2", "--world corridor-2 --seed 97 --eval-start 2 --minutes 0.7 --wall-keep 0.45 --wall-keep-min 0.25");
+  const nlohmann::json c2 = ExploreSummary(dir / "c2", "--world corridor-2 --seed 97 --eval-start 2 --minutes 0.7 --wall-keep 0.45 --wall-keep-min 0.25 --scan-wall-entropy 0 --no-own-range-driving");
   EXPECT_EQ(c2["collisions"].get<long>(), 0);
   EXPECT_GT(c2["wall_keep_frames"].get<long>(), 0);
   std::filesystem::remove_all(dir);
@@ -1185,8 +1204,9 @@ TEST(ExploreCli, OwnRangeDrivingKeepsAChairLegAndABoxCornerOffTheFlank) {
                                                         {"--seed 64 --eval-start 5", "obstacles[5] (box)"}};
   for (const auto& [start, hit] : starts) {
     SCOPED_TRACE(start);
-    const std::string run = "--world obstacle-course --minutes 2.4 " + start;
-    const nlohmann::json off = ExploreSummary(dir / "off", run);
+    // As found: the defaults of sessions 45-48.
+    const std::string run = "--world obstacle-course --minutes 2.4 --wall-keep 0 --wall-keep-min 0 --scan-wall-entropy 0 " + start;
+    const nlohmann::json off = ExploreSummary(dir / "off", run + " --no-own-range-driving");
     EXPECT_GT(off["collisions"].get<long>(), 0);
     EXPECT_EQ(off["first_hit"].get<std::string>(), hit);
     EXPECT_GT(off["first_collision_s"].get<double>(), 120.0);

@@ -465,6 +465,7 @@ struct ToyPlan {
         if (hit != nullptr && !hit->seen && !blind_floor) c.kind = SonarReturn::kUnknown;
         if (hit != nullptr && hit->brick && r < 3.0) ++lined;
         c.range_m = c.kind == SonarReturn::kBoundary ? r : c.kind == SonarReturn::kBlockedNear ? 0.0 : 6.0;
+        c.own_range_m = c.range_m;  // no median here: each column's own reading is the scan's
       }
       p.sonar = &scan;
       p.sonar_near_blind_m = kBlind;
@@ -1318,6 +1319,7 @@ struct ScriptedSonar {
         c.kind = column(c.bearing_rad);
         c.range_m = c.kind == SonarReturn::kFar ? 6.0 : c.kind == SonarReturn::kBoundary ? boundary_m : 0.0;
         if (shape) shape(pose, c);
+        c.own_range_m = c.range_m;  // no median here: each column's own reading is the scan's
       }
       p.sonar = &scan;
       p.sonar_near_blind_m = 1.2;
@@ -1468,7 +1470,8 @@ TEST(Explorer, ScanDoesNotSetOffIntoAWallFillingTheView) {
     ExplorerOptions o;
     o.detect_branches = false;
     o.scan_skips_wall_views = rule;
-    o.scan_entropy_floor = 0.0;  // the rule alone (the floor keeps this low-entropy view out too)
+    o.scan_entropy_floor = 0.0;  // the rule alone (the floor keeps this low-entropy view out too,
+    o.scan_wall_entropy = 0.0;   // and so does the wall's entropy: 0.6 of the best)
     Explorer e(o);
     ScriptedSonar w;
     w.pose.yaw = -kPi / 2;

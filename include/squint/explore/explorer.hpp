@@ -96,12 +96,12 @@ struct ExplorerOptions {
   double scan_entropy_floor = 0.9;
   // A scan takes no axis direction whose glance entropy is below this fraction of the best of the
   // four, whatever its free travel, while another direction (not skipped by scan_entropy_floor) is
-  // left (0: off, the default). A brick wall 0.4 m away gives the glance a wall's low entropy (0.63
+  // left (0: off; 0.7 since session 49). A brick wall 0.4 m away gives the glance a wall's low entropy (0.63
   // of the best) while its mortar courses, taken for floor boundaries, range it 1.2-1.5 m off: the
   // free travel then outscored the directions the near walls and an axis 20° off left 0.25-0.3 m
   // of (corridor-9's starts 4 of seed 40 and 5 of seed 67, near the T's bar). `squint explore
-  // --scan-wall-entropy R`; docs/explore.md, session 47.
-  double scan_wall_entropy = 0.0;
+  // --scan-wall-entropy R`; docs/explore.md, sessions 47 and 49.
+  double scan_wall_entropy = 0.7;
   // The corridor axis checked against the walls the memory holds (ObstacleMemory::WallAxisMod90,
   // trusted with at least wall_axis_min_pairs pairs and wall_axis_min_strength): a scan takes the
   // walls' axis where the glance's differs from it by more than 10 degrees, a probe first snaps
@@ -287,17 +287,19 @@ struct ExplorerOptions {
   // from the line's own direction, whatever the axis held says. The lines measure the wall where
   // the glance's heading is biased by a wall filling half the view and the visual sonar sees no
   // floor edge (corridor-2 97/2: 0.35 m from the wall, the glance's axis 7° off, set off 5° toward
-  // it). 0 turns it off (`squint explore --wall-keep`; docs/explore.md, session 46). The gate
+  // it). 0 turns it off (`squint explore --wall-keep`; docs/explore.md, session 46); 0.45 since
+  // session 49, with wall_keep_min_m 0.25 (docs/explore.md, sessions 47 and 49). The gate
   // leaves out lines farther off the axis than the axis can be wrong: a rotated box's base 27° off
   // it, 0.35 m to the right, turned the robot 30° left into another box (the obstacle course's
   // start 4 of seed 5, with a 30° gate).
-  double wall_keep_m = 0.0;
+  double wall_keep_m = 0.45;
   double wall_keep_gate_deg = 15.0;
   // A line nearer to the robot's centre than this (metres) is left out: no wall stands there while
   // the disc touches nothing (0: none left out). A line on the floor 0.18 m to the right, read as
   // the main line's parallel, turned the robot 21° left into the chair (the obstacle course's start
   // 7 of seed 67, with wall_keep_min_m 0). `squint explore --wall-keep-min`; docs/explore.md, session 47.
-  double wall_keep_min_m = 0.0;
+  // 0.25 since session 49.
+  double wall_keep_min_m = 0.25;
   // Only while setting off (from the start or a look around in place until trust_memory_after_m of
   // following), where the failures it is for happen: applied all along, it bounded 1,314 frames of
   // the main job, whose route then passed the carpeted middle corridor (coverage 0.854).
@@ -661,7 +663,11 @@ struct ExplorerOptions {
   // the lines come and go from frame to frame as the brick leaves the view (corridor-9, start 9 of
   // seed 14). 0: the latest frame only (`squint explore --wall-lines-hold 0`); 1.0 since session 19.
   double wall_lines_hold_s = 1.0;
-  ObstacleMemoryOptions memory;
+  // The explorer's memory: ObstacleMemoryOptions' defaults, but for own-range clearing for driving
+  // only (clear_own_within_m 1.2 with clear_own_driving_only; since session 49, `squint explore
+  // --no-own-range-driving` turns it off; docs/explore.md, sessions 48 and 49). A chair leg the
+  // sonar's median votes out stays remembered for the disc's free travel.
+  ObstacleMemoryOptions memory = ExplorerMemoryDefaults();
   TopoMapOptions map;
 
   std::string Validate() const;

@@ -83,7 +83,8 @@ struct ObstacleMemoryOptions {
   // openings as without it, and kept for driving only (FreeTravel with kept_edges), as
   // blind_points_edge_keep_driving_only keeps an edge's soft points: a chair leg the median voted
   // out still stops the disc, but a carpet's blocked-near columns no longer close a corridor to
-  // the judgements. Off by default.
+  // the judgements. Off here; the explorer's memory has it on since session 49
+  // (ExplorerMemoryDefaults).
   bool clear_own_driving_only = false;
   // A scan with at least this fraction of its columns blocked near shows a wall filling the view
   // (nothing of the floor in sight): its blockage stops forward travel even where the floor in the
@@ -132,6 +133,15 @@ struct ObstacleMemoryOptions {
   bool mark_known_free = false;
   std::string Validate() const;
 };
+
+// The options the explorer's memory has by default: ObstacleMemoryOptions' own, with own-range
+// clearing for driving only (clear_own_within_m 1.2, clear_own_driving_only).
+inline ObstacleMemoryOptions ExplorerMemoryDefaults() {
+  ObstacleMemoryOptions o;
+  o.clear_own_within_m = 1.2;
+  o.clear_own_driving_only = true;
+  return o;
+}
 
 class ObstacleMemory {
  public:
