@@ -207,7 +207,8 @@ struct ExplorerVariants {
     ro.explorer.light_axis_gain = light_heading ? 0.05 : 0.0;
     ro.explorer.light_drift_gain = light_drift_gain;
     ro.obstacle_pipeline = obstacle_pipeline;
-    ro.explorer.memory.clear_own_within_m = own_range_clearing || own_range_driving ? 1.2 : 0.0;
+    ro.explorer.memory.clear_own_within_m =
+        own_range_clearing || own_range_driving ? explore::ExplorerMemoryDefaults().clear_own_within_m : 0.0;
     ro.explorer.memory.clear_own_driving_only = own_range_driving && !own_range_clearing;
     ro.explorer.wall_line_axis_gain = wall_lines ? 0.2 : 0.0;
     ro.explorer.end_probe_memory = end_probe_memory;

@@ -1157,7 +1157,7 @@ TEST(ExploreCli, ScanWallEntropyKeepsALookAroundOffABrickWallUpClose) {
   const auto dir = TempDir("scan-wall-entropy");
   // As found: the defaults of sessions 45-48 (with --wall-keep 0.45 alone for the second).
   for (const std::string& start :
-       {std::string("--world corridor-9 --seed 40 --eval-start 4 --minutes 0.6 --wall-keep 0 --wall-keep-min 0 --no-own-range-driving"),
+       {"--world corridor-9 --seed 40 --eval-start 4 --minutes 0.6" + RulesOffBut(Session49Rules(), "--scan-wall-entropy"),
         std::string("--world corridor-9 --seed 67 --eval-start 5 --minutes 0.75 --wall-keep 0.45 --wall-keep-min 0 --no-own-range-driving")}) {
     SCOPED_TRACE(start);
     const nlohmann::json off = ExploreSummary(dir / "off", start + " --scan-wall-entropy 0");
@@ -1205,7 +1205,7 @@ TEST(ExploreCli, OwnRangeDrivingKeepsAChairLegAndABoxCornerOffTheFlank) {
   for (const auto& [start, hit] : starts) {
     SCOPED_TRACE(start);
     // As found: the defaults of sessions 45-48.
-    const std::string run = "--world obstacle-course --minutes 2.4 --wall-keep 0 --wall-keep-min 0 --scan-wall-entropy 0 " + start;
+    const std::string run = "--world obstacle-course --minutes 2.4 " + start + RulesOffBut(Session49Rules(), "--own-range-driving");
     const nlohmann::json off = ExploreSummary(dir / "off", run + " --no-own-range-driving");
     EXPECT_GT(off["collisions"].get<long>(), 0);
     EXPECT_EQ(off["first_hit"].get<std::string>(), hit);
